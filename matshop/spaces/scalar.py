@@ -1,0 +1,37 @@
+"""Linear scalar data (metallic, ambient occlusion, opacity, height, masks).
+
+These are already linear in what they mean, so the edit space is the
+identity; ``from_edit`` clamps to the physical range.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import EditRange, Space, as_channels
+
+
+class IdentitySpace(Space):
+    """Edit value == physical value; clamped to ``[lo, hi]`` on the way back."""
+
+    curve_mode = "channels"
+
+    def __init__(
+        self, channels: int = 1, lo: float = 0.0, hi: float = 1.0, name: str = "identity"
+    ) -> None:
+        self.name = name
+        self.description = f"linear data, identity edit space, clamped to [{lo:g}, {hi:g}]"
+        self.phys_channels = channels
+        self.edit_channels = channels
+        self.lo = lo
+        self.hi = hi
+        self.edit_range = EditRange(lo, hi)
+
+    def to_edit(self, phys: np.ndarray) -> np.ndarray:
+        return as_channels(phys, self.phys_channels, self.name).copy()
+
+    def from_edit(self, edit: np.ndarray) -> np.ndarray:
+        return np.clip(as_channels(edit, self.edit_channels, self.name), self.lo, self.hi)
+
+
+SPACES: dict[str, Space] = {"identity": IdentitySpace()}
