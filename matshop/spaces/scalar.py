@@ -25,7 +25,9 @@ class IdentitySpace(Space):
         self.edit_channels = channels
         self.lo = lo
         self.hi = hi
-        self.edit_range = EditRange(lo, hi)
+        bounded = np.isfinite(lo) and np.isfinite(hi)
+        # unbounded data still needs a typical extent for curves and bilateral distances
+        self.edit_range = EditRange(lo, hi) if bounded else EditRange(0.0, 1.0)
 
     def to_edit(self, phys: np.ndarray) -> np.ndarray:
         return as_channels(phys, self.phys_channels, self.name).copy()
@@ -34,4 +36,10 @@ class IdentitySpace(Space):
         return np.clip(as_channels(edit, self.edit_channels, self.name), self.lo, self.hi)
 
 
-SPACES: dict[str, Space] = {"identity": IdentitySpace()}
+SPACES: dict[str, Space] = {
+    "identity": IdentitySpace(),
+    # height / displacement from float files may leave [0, 1]; nothing to clamp to
+    "identity_unbounded": IdentitySpace(
+        lo=float("-inf"), hi=float("inf"), name="identity_unbounded"
+    ),
+}

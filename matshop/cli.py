@@ -1,0 +1,145 @@
+"""The ``matshop`` command.
+
+Every verb is a thin shell over the same engine the editor uses. User
+errors (bad files, bad options) print one line and exit with status 2;
+nothing is written when a command fails.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from . import __version__
+from .errors import MatshopError
+
+EXIT_USAGE = 2
+
+_DESCRIPTION = """\
+matshop edits spatially-varying materials (texture sets) in editing spaces,
+where plain image operations respect what each parameter means.
+
+examples:
+  matshop info path/to/textures/            what is in a texture set
+  matshop convert in/ out/                  import -> edit space -> back -> write
+  matshop convert in/ out/ --sampled-distribution
+                                            replace GGX roughness by a sampled
+                                            128-bin microfacet distribution (EXR)
+  matshop demo                              the headless pipeline on the bundled sample
+"""
+
+
+def _repo_sample() -> Path:
+    return Path(__file__).resolve().parent.parent / "resources" / "sample"
+
+
+def _parse_spaces(pairs: Sequence[str]) -> dict[str, str]:
+    spaces = {}
+    for pair in pairs:
+        param, sep, space = pair.partition("=")
+        if not sep or not param or not space:
+            raise MatshopError(f"--space expects PARAMETER=SPACE, got {pair!r}")
+        spaces[param.strip()] = space.strip()
+    return spaces
+
+
+def _add_load_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--space",
+        action="append",
+        default=[],
+        metavar="PARAM=SPACE",
+        help="editing space for one parameter, e.g. roughness=ggx_alpha or "
+        "base_color=gamma22 (repeatable; see `matshop spaces`)",
+    )
+    parser.add_argument(
+        "--normal-convention",
+        choices=("opengl", "directx"),
+        help="green channel convention of the normal map (default: from the file "
+        "name, else guessed from the map)",
+    )
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="matshop",
+        description=_DESCRIPTION,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--version", action="version", version=f"matshop {__version__}")
+    verbs = parser.add_subparsers(dest="verb", metavar="COMMAND")
+
+    info = verbs.add_parser(
+        "info",
+        help="show the parameters, sizes and encodings of a texture set",
+        description="Detect the texture set at PATH (a folder or one of its files) and "
+        "describe every map: parameter, file, bit depth, color encoding, normal "
+        "convention and editing space.",
+    )
+    info.add_argument("path", type=Path, help="texture folder or one map of the set")
+    _add_load_options(info)
+
+    convert = verbs.add_parser(
+        "convert",
+        help="import a texture set, convert to edit space and back, write it",
+        description="Import IN, convert every parameter into its editing space and "
+        "back, and write the set into the folder OUT as <material>_<parameter> "
+        "files. Prints the worst round-trip error of each parameter.",
+    )
+    convert.add_argument("input", type=Path, metavar="IN", help="texture folder or one map")
+    convert.add_argument("output", type=Path, metavar="OUT", help="output folder")
+    convert.add_argument(
+        "--sampled-distribution",
+        action="store_true",
+        help="replace GGX roughness by a sampled microfacet distribution "
+        "(128 bins in theta, written as a named-channel EXR)",
+    )
+    convert.add_argument("--force", action="store_true", help="overwrite existing files")
+    _add_load_options(convert)
+
+    verbs.add_parser(
+        "spaces",
+        help="list the editing spaces",
+        description="List every editing space with its widths and meaning.",
+    )
+
+    demo = verbs.add_parser(
+        "demo",
+        help="run the main job on the bundled sample material",
+        description="Run matshop on the bundled sample: describe it, convert it "
+        "through edit space and back, and derive a sampled-distribution set.",
+    )
+    demo.add_argument("sample", type=Path, nargs="?", default=None, help="texture set")
+    demo.add_argument(
+        "--out", type=Path, default=Path("matshop-demo"), help="output folder (./matshop-demo)"
+    )
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.verb is None:
+        parser.print_help()
+        return EXIT_USAGE
+    from . import commands  # keeps `matshop --help` fast: no numpy/OIIO import
+
+    try:
+        return commands.run(args)
+    except MatshopError as exc:
+        print(f"matshop: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("matshop: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # `matshop info | head`: quiet exit, no traceback
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,190 @@
+"""What each ``matshop`` verb does; :mod:`matshop.cli` only parses arguments."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .errors import MatshopError
+from .io.material_io import LoadReport, load_material, save_material
+from .material import Material
+from .progress import progress_bar
+
+_ENCODINGS = {
+    "srgb": "sRGB (exact)",
+    "gamma22": "gamma 2.2",
+}
+
+
+def run(args: argparse.Namespace) -> int:
+    handler = {"info": cmd_info, "convert": cmd_convert, "spaces": cmd_spaces, "demo": cmd_demo}
+    return handler[args.verb](args)
+
+
+def _load(path: Path, args: argparse.Namespace) -> tuple[Material, LoadReport]:
+    from .cli import _parse_spaces
+
+    return load_material(
+        path, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
+    )
+
+
+def _encoding(material: Material, name: str) -> str:
+    space = material.schema[name].space.name
+    if space in _ENCODINGS:
+        return _ENCODINGS[space]
+    source = material.sources.get(name, {})
+    if "convention" in source:
+        return f"{source['convention']} normals ({source['convention_source']})"
+    if "inverted" in source:
+        return "linear (inverted gloss)"
+    if "packed" in source:
+        return f"linear ({source['packed']} channel {'RGBA'[source['channel']]})"
+    return "linear"
+
+
+def describe(material: Material, report: LoadReport) -> str:
+    """The human-readable summary ``matshop info`` prints."""
+    height, width = material.size
+    ts = report.texture_set
+    lines = [f"texture set {material.name!r} in {ts.folder}: {width} x {height} texels", ""]
+    header = ("parameter", "file", "format", "depth", "encoding", "edit space")
+    rows = []
+    for param in material.schema.parameters:
+        source = material.sources.get(param.name, {})
+        file = Path(source.get("file", "-")).name
+        info = next((i for i in report.infos.values() if Path(i.path).name == file), None)
+        rows.append(
+            (
+                param.name,
+                file,
+                info.format if info else "-",
+                info.bit_depth if info else source.get("bit_depth", "-"),
+                _encoding(material, param.name),
+                f"{param.space.name} ({param.phys_channels}->{param.edit_channels})",
+            )
+        )
+    widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
+    for row in [header, *rows]:
+        lines.append("  " + "  ".join(str(c).ljust(w) for c, w in zip(row, widths)).rstrip())
+    lines.append("")
+    lines.append(
+        f"edit vector: {material.schema.edit_width} channels per texel "
+        f"({', '.join(f'{n} {s}' for n, s in _slices(material))})"
+    )
+    for path in ts.unrecognised:
+        lines.append(f"ignored (name not recognised): {Path(path).name}")
+    lines.extend(report.notes)
+    return "\n".join(lines)
+
+
+def _slices(material: Material) -> list[tuple[str, str]]:
+    return [
+        (name, f"[{sl.start}:{sl.stop}]") for name, sl in material.schema.edit_slices.items()
+    ]
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    material, report = _load(args.path, args)
+    print(describe(material, report))
+    return 0
+
+
+def roundtrip_errors(before: Material, after: Material) -> dict[str, str]:
+    """Worst error per parameter, in the unit a user reads it in."""
+    errors = {}
+    for param in before.schema.parameters:
+        a = before.maps[param.name].astype(np.float64)
+        b = after.maps[param.name].astype(np.float64)
+        if param.name == "normal":
+            cos = np.clip(np.sum(a[..., :3] * b[..., :3], axis=-1), -1.0, 1.0)
+            errors[param.name] = f"{np.degrees(np.arccos(cos.min())):.3f} deg"
+        elif param.phys_channels > 3:
+            scale = np.abs(a).sum(axis=-1).mean()
+            rel = np.abs(a - b).sum(axis=-1).mean() / max(scale, 1e-12)
+            errors[param.name] = f"{100 * rel:.3f}% mean relative L1"
+        else:
+            errors[param.name] = f"{255 * np.abs(a - b).max():.3f} / 255"
+    return errors
+
+
+def convert(
+    input_path: Path,
+    output: Path,
+    *,
+    args: argparse.Namespace,
+    sampled_distribution: bool = False,
+    force: bool = False,
+) -> tuple[Material, list[Path], dict[str, str]]:
+    """import -> edit space -> back -> write; returns what was written and the errors."""
+    material, _ = _load(input_path, args)
+    if sampled_distribution:
+        from .derive import with_sampled_distribution
+
+        material = with_sampled_distribution(material)
+    with progress_bar("to edit space") as report:
+        edit = material.to_edit(progress=report)
+    with progress_bar("from edit space") as report:
+        back = edit.to_physical(progress=report)
+    with progress_bar("writing") as report:
+        written = save_material(back, output, overwrite=force, progress=report)
+    return back, written, roundtrip_errors(material, back)
+
+
+def cmd_convert(args: argparse.Namespace) -> int:
+    _, written, errors = convert(
+        args.input,
+        args.output,
+        args=args,
+        sampled_distribution=args.sampled_distribution,
+        force=args.force,
+    )
+    for path in written:
+        print(f"wrote {path}")
+    for name, error in errors.items():
+        print(f"round trip {name}: worst error {error}")
+    return 0
+
+
+def cmd_spaces(args: argparse.Namespace) -> int:
+    from .spaces import all_spaces
+
+    for name, space in sorted(all_spaces().items()):
+        print(
+            f"{name:26s} {space.phys_channels:4d} -> {space.edit_channels:<4d} {space.description}"
+        )
+    return 0
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    sample = args.sample or Path(__file__).resolve().parent.parent / "resources" / "sample"
+    if not sample.exists():
+        raise MatshopError("bundled sample not found (run scripts/make_sample.py)", sample)
+    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
+        # the editor is not built yet; until it is, the demo is headless everywhere
+        pass
+    material, report = _load(sample, _defaults(args))
+    print(describe(material, report))
+    print()
+    for label, sub, sampled in (
+        ("round trip through edit space", "roundtrip", False),
+        ("with a sampled 128-bin distribution", "sampled", True),
+    ):
+        _, written, errors = convert(
+            sample,
+            args.out / sub,
+            args=_defaults(args),
+            sampled_distribution=sampled,
+            force=True,
+        )
+        print(f"{label}: {len(written)} files in {args.out / sub}")
+        for name, error in errors.items():
+            print(f"  {name:14s} worst error {error}")
+    return 0
+
+
+def _defaults(args: argparse.Namespace) -> argparse.Namespace:
+    return argparse.Namespace(space=getattr(args, "space", []), normal_convention=None)

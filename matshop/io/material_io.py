@@ -1,0 +1,303 @@
+"""Texture sets on disk <-> :class:`~matshop.material.Material`.
+
+Loading detects the set by file names (:mod:`matshop.io.textureset`), reads
+each map through OpenImageIO (:mod:`matshop.io.images`), unpacks packed maps
+(ORM, Unity mask maps), inverts gloss into roughness, decodes normal maps and
+checks that every map has the same size. Saving writes one file per
+parameter, named so that loading finds it again, into a staging folder that
+is renamed into place only when every file has been written.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MatshopError
+from ..material import PARAMETER_KINDS, Material, ProgressCallback, Schema
+from ..spaces.frame import decode_normal_map, encode_normal_map, guess_normal_convention
+from ..spaces.frame import height_to_normal
+from .images import ImageInfo, read_image, write_image
+from .textureset import TextureSet, detect_texture_set
+
+#: (slot, channel index or "gloss") feeding scalar parameters; a packed map
+#: only fills a parameter that no dedicated map provides.
+_SCALAR_SLOTS: dict[str, str] = {
+    "metallic": "metallic",
+    "roughness": "roughness",
+    "ao": "ao",
+    "height": "height",
+    "opacity": "opacity",
+    "transmission": "transmission",
+}
+_COLOR_SLOTS: dict[str, str] = {
+    "base_color": "base_color",
+    "specular": "specular",
+    "emissive": "emissive",
+}
+#: packed slot -> {parameter: (channel, invert)}
+_PACKED_SLOTS: dict[str, dict[str, tuple[int, bool]]] = {
+    "orm": {"ao": (0, False), "roughness": (1, False), "metallic": (2, False)},
+    "mask": {"metallic": (0, False), "ao": (1, False), "roughness": (3, True)},
+}
+#: matshop's own wide maps and the channel count each must have
+_WIDE_SLOTS: dict[str, str] = {"distribution": "distribution", "profile": "profile"}
+
+#: parameter -> (file tag, extension) used when saving
+_SAVE_TAGS: dict[str, str] = {
+    "base_color": "basecolor",
+    "specular": "specular",
+    "emissive": "emissive",
+    "metallic": "metallic",
+    "roughness": "roughness",
+    "ao": "ao",
+    "height": "height",
+    "opacity": "opacity",
+    "transmission": "transmission",
+    "normal": "normal",
+    "distribution": "distribution",
+    "profile": "profile",
+}
+
+
+@dataclass
+class LoadReport:
+    """What loading decided, for ``matshop info`` and the UI."""
+
+    texture_set: TextureSet
+    infos: dict[str, ImageInfo] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+
+def _first_channel(array: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(array[..., :1])
+
+
+def _as_rgb(array: np.ndarray, path: Path) -> np.ndarray:
+    channels = array.shape[2]
+    if channels in (1, 2):  # gray or gray+alpha: gray becomes RGB
+        return np.repeat(array[..., :1], 3, axis=2)
+    if channels >= 3:
+        return np.ascontiguousarray(array[..., :3])
+    raise MatshopError(f"expected a color image, got {channels} channels", path)
+
+
+def _read_all(ts: TextureSet, max_pixels: int | None) -> tuple[dict, dict]:
+    arrays: dict[str, np.ndarray] = {}
+    infos: dict[str, ImageInfo] = {}
+    size: tuple[int, int] | None = None
+    size_from: Path | None = None
+    for slot, path in ts.maps.items():
+        kwargs = {} if max_pixels is None else {"max_pixels": max_pixels}
+        array, info = read_image(path, **kwargs)
+        if size is None:
+            size, size_from = array.shape[:2], path
+        elif array.shape[:2] != size:
+            raise MatshopError(
+                f"size {array.shape[1]}x{array.shape[0]} differs from "
+                f"{size_from.name if size_from else '?'} ({size[1]}x{size[0]}); "
+                "all maps of a texture set must have the same resolution",
+                path,
+            )
+        arrays[slot], infos[slot] = array, info
+    return arrays, infos
+
+
+def load_material(
+    path: str | os.PathLike,
+    *,
+    spaces: dict[str, str] | None = None,
+    normal_convention: str | None = None,
+    max_pixels: int | None = None,
+) -> tuple[Material, LoadReport]:
+    """Load the texture set at ``path`` (a folder or one of its files).
+
+    Parameters
+    ----------
+    path : folder or file of the set.
+    spaces : optional editing-space override per parameter (``{"roughness": "ggx_alpha"}``).
+    normal_convention : ``"opengl"`` or ``"directx"``; default: the file-name hint
+        (``_NormalGL``, ``_nor_dx``), else a guess from the normal map's curl.
+    max_pixels : refuse images larger than this many texels.
+
+    Raises
+    ------
+    MatshopError : one line naming the file and the problem.
+    """
+    ts = detect_texture_set(path)
+    arrays, infos = _read_all(ts, max_pixels)
+    report = LoadReport(ts, infos)
+    maps: dict[str, np.ndarray] = {}
+    sources: dict[str, dict] = {}
+
+    def take(param: str, array: np.ndarray, slot: str, **extra: object) -> None:
+        maps[param] = array.astype(np.float32, copy=False)
+        info = infos[slot]
+        sources[param] = {"file": str(ts.maps[slot]), "bit_depth": info.bit_depth, **extra}
+
+    for slot, param in _COLOR_SLOTS.items():
+        if slot in arrays:
+            take(param, _as_rgb(arrays[slot], ts.maps[slot]), slot)
+            if slot == "base_color" and arrays[slot].shape[2] in (2, 4) and "opacity" not in ts.maps:
+                take("opacity", np.ascontiguousarray(arrays[slot][..., -1:]), slot)
+    for slot, param in _SCALAR_SLOTS.items():
+        if slot in arrays:
+            take(param, _first_channel(arrays[slot]), slot)
+    if "gloss" in arrays and "roughness" not in maps:
+        take("roughness", 1.0 - _first_channel(arrays["gloss"]), "gloss", inverted="gloss")
+        report.notes.append(f"{ts.maps['gloss'].name}: gloss inverted into roughness")
+    for slot, unpack in _PACKED_SLOTS.items():
+        if slot not in arrays:
+            continue
+        array = arrays[slot]
+        for param, (channel, invert) in unpack.items():
+            if param in maps:
+                continue
+            if channel >= array.shape[2]:
+                raise MatshopError(
+                    f"packed {slot} map needs channel {'RGBA'[channel]} for {param},"
+                    f" file has {array.shape[2]} channel(s)",
+                    ts.maps[slot],
+                )
+            values = array[..., channel : channel + 1]
+            take(param, 1.0 - values if invert else values, slot, packed=slot, channel=channel)
+    for slot, param in _WIDE_SLOTS.items():
+        if slot in arrays:
+            take(param, arrays[slot], slot)
+
+    _load_frame(ts, arrays, infos, maps, sources, report, normal_convention)
+
+    names = [n for n in PARAMETER_KINDS if n in maps]
+    spaces = dict(spaces or {})
+    if "normal" in maps and maps["normal"].shape[2] == 6:
+        spaces.setdefault("normal", "normal_tangent")
+    schema = Schema.from_names(names, spaces)
+    for param in schema.parameters:
+        got = maps[param.name].shape[2]
+        if got != param.phys_channels:
+            raise MatshopError(
+                f"{param.name} map has {got} channel(s), the {param.space.name} space needs "
+                f"{param.phys_channels}",
+                sources[param.name]["file"],
+            )
+    return Material(ts.name, schema, maps, sources), report
+
+
+def _load_frame(
+    ts: TextureSet,
+    arrays: dict[str, np.ndarray],
+    infos: dict[str, ImageInfo],
+    maps: dict[str, np.ndarray],
+    sources: dict[str, dict],
+    report: LoadReport,
+    normal_convention: str | None,
+) -> None:
+    if "normal" in arrays:
+        path = ts.maps["normal"]
+        rgb = arrays["normal"]
+        if rgb.shape[2] < 3:
+            raise MatshopError(
+                f"a normal map needs 3 channels (RGB), this file has {rgb.shape[2]}; "
+                "if it is a height or bump map, name it *_height or *_bump",
+                path,
+            )
+        convention = normal_convention or ts.hints.get("normal", {}).get("convention")
+        how = "given" if normal_convention else "file name"
+        if convention is None:
+            convention, confidence = guess_normal_convention(rgb[..., :3])
+            how = f"guessed from the map (confidence {confidence:.2f})"
+        normal = decode_normal_map(rgb[..., :3], convention=convention)
+        if "tangent" in arrays:
+            tangent = decode_normal_map(arrays["tangent"][..., :3], convention=convention)
+            normal = np.concatenate([normal, tangent], axis=2)
+        maps["normal"] = normal
+        sources["normal"] = {
+            "file": str(path),
+            "bit_depth": infos["normal"].bit_depth,
+            "convention": convention,
+            "convention_source": how,
+        }
+    elif "bump" in arrays:
+        maps["normal"] = height_to_normal(_first_channel(arrays["bump"]), wrap=True)
+        sources["normal"] = {
+            "file": str(ts.maps["bump"]),
+            "bit_depth": infos["bump"].bit_depth,
+            "convention": "opengl",
+            "convention_source": "derived from bump map",
+        }
+        report.notes.append(f"{ts.maps['bump'].name}: bump map converted to normals")
+
+
+def _bit_depth_for(material: Material, name: str) -> str:
+    """Keep the source's precision: 16-bit stays 16-bit, float stays float."""
+    source_depth = material.sources.get(name, {}).get("bit_depth", "uint8")
+    return source_depth if source_depth in ("uint8", "uint16", "half", "float") else "uint8"
+
+
+def _file_plan(material: Material) -> list[tuple[str, np.ndarray, str, dict]]:
+    """(file name, array, bit depth, attributes) for every file a material saves to."""
+    plan = []
+    for param in material.schema.parameters:
+        name = param.name
+        array = material.maps[name]
+        tag = _SAVE_TAGS.get(name)
+        if tag is None:
+            raise MatshopError(f"saving parameter {name!r} to files is not supported yet")
+        depth = _bit_depth_for(material, name)
+        attrs = {"matshop:space": param.space.name}
+        if name == "normal":
+            convention = material.sources.get(name, {}).get("convention", "opengl")
+            plan.append((f"{tag}.png", encode_normal_map(array[..., :3], convention=convention),
+                         depth if depth in ("uint8", "uint16") else "uint16", attrs))
+            if array.shape[2] == 6:
+                tangent = encode_normal_map(array[..., 3:], convention=convention)
+                plan.append(("tangent.png", tangent, "uint16", attrs))
+            continue
+        if name in _WIDE_SLOTS:
+            plan.append((f"{tag}.exr", array, "half" if depth == "half" else "float", attrs))
+            continue
+        ext = "exr" if depth in ("half", "float") else "png"
+        plan.append((f"{tag}.{ext}", array, depth, attrs))
+    return plan
+
+
+def save_material(
+    material: Material,
+    out_dir: str | os.PathLike,
+    *,
+    overwrite: bool = False,
+    progress: ProgressCallback | None = None,
+) -> list[Path]:
+    """Write ``material`` as ``<out_dir>/<name>_<tag>.<ext>`` files; return their paths.
+
+    Every file is first written into a hidden staging folder inside
+    ``out_dir``; only when all succeeded are they moved into place, so a
+    failure leaves no partial set behind and never touches existing files.
+    Existing files are replaced only with ``overwrite``.
+    """
+    out = Path(out_dir)
+    plan = _file_plan(material)
+    targets = [out / f"{material.name}_{suffix}" for suffix, *_ in plan]
+    clashes = [t for t in targets if t.exists()]
+    if clashes and not overwrite:
+        raise MatshopError(f"{clashes[0].name} already exists (use --force to overwrite)", out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".matshop-staging-", dir=out))
+    except OSError as exc:
+        raise MatshopError(f"cannot write here: {exc.strerror or exc}", out) from None
+    try:
+        for done, ((suffix, array, depth, attrs), target) in enumerate(zip(plan, targets), 1):
+            write_image(staging / target.name, array, bit_depth=depth, attributes=attrs)
+            if progress:
+                progress(done, len(plan))
+        for target in targets:
+            os.replace(staging / target.name, target)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return targets

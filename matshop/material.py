@@ -1,0 +1,252 @@
+"""Channel schemas and the two material containers.
+
+A :class:`Schema` says which parameters a material has and, for each, its
+editing space; it lays the edit channels of all parameters side by side so
+one texel is one concatenated edit vector with named slices. That lets a
+single operation act on several parameters at once (the seed paper's main
+workflow point) while every parameter keeps its own meaning.
+
+:class:`Material` holds physical maps (what files hold, decoded to float32);
+:class:`EditMaterial` holds the concatenated edit-space array. Conversion runs
+in row bands so huge or wide materials (1K x 128-channel distributions) stay
+within memory and can report progress.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .spaces import Space, get_space
+
+#: Called with (rows done, rows total) during long conversions.
+ProgressCallback = Callable[[int, int], None]
+
+#: Texel budget for one band of a conversion; bounds temporaries to a few
+#: hundred MB even for 128-channel parameters.
+_BAND_TEXELS = 1 << 18
+
+
+@dataclass(frozen=True)
+class ParameterKind:
+    """What a named parameter is and the editing space it gets by default."""
+
+    name: str
+    label: str
+    default_space: str
+    #: the file-name slot the parameter is usually imported from
+    description: str
+
+
+#: The parameters matshop knows, by canonical name. Data, not branches: the
+#: importer, the exporter and the UI all read this table.
+PARAMETER_KINDS: dict[str, ParameterKind] = {
+    kind.name: kind
+    for kind in (
+        ParameterKind("base_color", "Base color", "srgb", "albedo / base color, sRGB"),
+        ParameterKind("diffuse", "Diffuse kd", "srgb", "diffuse reflectance kd, sRGB"),
+        ParameterKind("specular", "Specular ks", "srgb", "specular reflectance ks, sRGB"),
+        ParameterKind("emissive", "Emissive", "srgb", "emitted color, sRGB"),
+        ParameterKind("metallic", "Metallic", "identity", "metalness, linear"),
+        ParameterKind("roughness", "Roughness (GGX)", "ggx", "GGX perceptual roughness r"),
+        ParameterKind("phong_exponent", "Phong exponent", "phong", "Phong exponent n"),
+        ParameterKind(
+            "anisotropic_exponents",
+            "Anisotropic exponents",
+            "ashikhmin_shirley",
+            "Ashikhmin-Shirley nu, nv",
+        ),
+        ParameterKind(
+            "beckmann_roughness", "Beckmann roughness", "beckmann", "Beckmann slope m"
+        ),
+        ParameterKind(
+            "distribution", "Microfacet distribution", "sampled", "sampled d(theta)"
+        ),
+        ParameterKind("profile", "Subsurface profile", "subsurface", "SubEdit profile p(r)"),
+        ParameterKind("normal", "Normal", "normal", "tangent-space frame (normal map)"),
+        ParameterKind("ao", "Ambient occlusion", "identity", "ambient occlusion, linear"),
+        ParameterKind("opacity", "Opacity", "identity", "opacity / alpha, linear"),
+        ParameterKind(
+            "transmission", "Transmission", "identity", "transmission weight, linear"
+        ),
+        ParameterKind("height", "Height", "identity_unbounded", "displacement, linear"),
+    )
+}
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter of a material: its name and editing space."""
+
+    name: str
+    space: Space
+
+    @property
+    def phys_channels(self) -> int:
+        return self.space.phys_channels
+
+    @property
+    def edit_channels(self) -> int:
+        return self.space.edit_channels
+
+    @property
+    def label(self) -> str:
+        kind = PARAMETER_KINDS.get(self.name)
+        return kind.label if kind else self.name
+
+
+class Schema:
+    """An ordered set of parameters and the layout of their edit channels."""
+
+    def __init__(self, parameters: Iterable[Parameter]) -> None:
+        self.parameters: tuple[Parameter, ...] = tuple(parameters)
+        names = [p.name for p in self.parameters]
+        if len(set(names)) != len(names):
+            raise ValueError(f"duplicate parameter names in schema: {names}")
+        self.edit_slices: dict[str, slice] = {}
+        start = 0
+        for param in self.parameters:
+            self.edit_slices[param.name] = slice(start, start + param.edit_channels)
+            start += param.edit_channels
+        self.edit_width = start
+
+    @classmethod
+    def from_names(
+        cls, names: Iterable[str], spaces: Mapping[str, str] | None = None
+    ) -> Schema:
+        """Build a schema from parameter names, each with its default space
+        unless ``spaces`` overrides it (``{"roughness": "ggx_alpha"}``)."""
+        spaces = dict(spaces or {})
+        params = []
+        for name in names:
+            kind = PARAMETER_KINDS.get(name)
+            space_name = spaces.get(name) or (kind.default_space if kind else None)
+            if space_name is None:
+                raise KeyError(f"unknown parameter {name!r}: give its editing space explicitly")
+            params.append(Parameter(name, get_space(space_name)))
+        return cls(params)
+
+    def __getitem__(self, name: str) -> Parameter:
+        for param in self.parameters:
+            if param.name == name:
+                return param
+        raise KeyError(f"no parameter {name!r} in this material (has: {', '.join(self.names)})")
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.edit_slices
+
+    def __len__(self) -> int:
+        return len(self.parameters)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+    def channel_indices(self, names: Iterable[str] | None = None) -> np.ndarray:
+        """Edit-channel indices covered by ``names`` (all parameters if None)."""
+        if names is None:
+            return np.arange(self.edit_width)
+        chunks = [np.arange(self.edit_width)[self.edit_slices[self[n].name]] for n in names]
+        return np.concatenate(chunks) if chunks else np.zeros(0, dtype=np.intp)
+
+    def describe(self) -> list[tuple[str, str, int, int]]:
+        """(parameter, space, physical width, edit width) rows, for ``info`` and the UI."""
+        return [(p.name, p.space.name, p.phys_channels, p.edit_channels) for p in self.parameters]
+
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{p.name}:{p.space.name}" for p in self.parameters)
+        return f"Schema({inner})"
+
+
+def _bands(height: int, width: int, channels: int) -> list[tuple[int, int]]:
+    rows = max(1, _BAND_TEXELS * 4 // max(1, width * max(channels, 4)))
+    return [(r, min(height, r + rows)) for r in range(0, height, rows)]
+
+
+@dataclass
+class Material:
+    """A material in physical encoding: one ``(H, W, C)`` float32 map per parameter."""
+
+    name: str
+    schema: Schema
+    maps: dict[str, np.ndarray]
+    #: free-form provenance per parameter (source file, bit depth, convention, ...)
+    sources: dict[str, dict] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        missing = [n for n in self.schema.names if n not in self.maps]
+        if missing:
+            raise ValueError(f"material {self.name!r} lacks maps for {missing}")
+        shapes = {n: self.maps[n].shape[:2] for n in self.schema.names}
+        if len(set(shapes.values())) > 1:
+            raise ValueError(f"material {self.name!r}: maps differ in size: {shapes}")
+        for param in self.schema.parameters:
+            arr = self.maps[param.name]
+            if arr.ndim != 3 or arr.shape[2] != param.phys_channels:
+                raise ValueError(
+                    f"material {self.name!r}: {param.name} needs (H, W, {param.phys_channels}),"
+                    f" got {arr.shape}"
+                )
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(height, width) in texels."""
+        first = self.maps[self.schema.names[0]]
+        return first.shape[0], first.shape[1]
+
+    def to_edit(self, progress: ProgressCallback | None = None) -> EditMaterial:
+        """Convert every parameter into its editing space, concatenated per texel."""
+        height, width = self.size
+        edit = np.empty((height, width, self.schema.edit_width), dtype=np.float32)
+        bands = _bands(height, width, self.schema.edit_width)
+        for done, (r0, r1) in enumerate(bands, 1):
+            for param in self.schema.parameters:
+                edit[r0:r1, :, self.schema.edit_slices[param.name]] = param.space.to_edit(
+                    self.maps[param.name][r0:r1]
+                )
+            if progress:
+                progress(done, len(bands))
+        return EditMaterial(self.name, self.schema, edit, dict(self.sources))
+
+
+@dataclass
+class EditMaterial:
+    """A material in editing space: one ``(H, W, schema.edit_width)`` float32 array."""
+
+    name: str
+    schema: Schema
+    data: np.ndarray
+    sources: dict[str, dict] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.data.ndim != 3 or self.data.shape[2] != self.schema.edit_width:
+            raise ValueError(
+                f"edit data must be (H, W, {self.schema.edit_width}), got {self.data.shape}"
+            )
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.data.shape[0], self.data.shape[1]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """The edit channels of one parameter (a view: writes go into ``data``)."""
+        return self.data[..., self.schema.edit_slices[self.schema[name].name]]
+
+    def to_physical(self, progress: ProgressCallback | None = None) -> Material:
+        """Convert back through every space's ``from_edit`` (clamping happens here)."""
+        height, width = self.size
+        maps = {
+            p.name: np.empty((height, width, p.phys_channels), dtype=np.float32)
+            for p in self.schema.parameters
+        }
+        bands = _bands(height, width, max(p.phys_channels for p in self.schema.parameters))
+        for done, (r0, r1) in enumerate(bands, 1):
+            for param in self.schema.parameters:
+                maps[param.name][r0:r1] = param.space.from_edit(
+                    self.data[r0:r1, :, self.schema.edit_slices[param.name]]
+                )
+            if progress:
+                progress(done, len(bands))
+        return Material(self.name, self.schema, maps, dict(self.sources))

@@ -1,0 +1,74 @@
+"""Schemas lay parameters side by side; containers convert losslessly and in bands."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from matshop import material as material_module
+from matshop.material import Material, Schema
+
+
+def _material(height: int = 5, width: int = 4) -> Material:
+    rng = np.random.default_rng(0)
+    schema = Schema.from_names(["base_color", "roughness", "normal", "metallic"])
+    normal = rng.normal(size=(height, width, 3)) * [0.3, 0.3, 1] + [0, 0, 1]
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    maps = {
+        "base_color": rng.random((height, width, 3), dtype=np.float32),
+        "roughness": rng.random((height, width, 1), dtype=np.float32),
+        "normal": normal.astype(np.float32),
+        "metallic": rng.random((height, width, 1), dtype=np.float32),
+    }
+    return Material("test", schema, maps)
+
+
+def test_edit_vector_is_the_concatenation_of_every_parameter() -> None:
+    mat = _material()
+    schema = mat.schema
+    assert schema.edit_width == 3 + 1 + 3 + 1
+    assert schema.edit_slices == {
+        "base_color": slice(0, 3),
+        "roughness": slice(3, 4),
+        "normal": slice(4, 7),
+        "metallic": slice(7, 8),
+    }
+    edit = mat.to_edit()
+    for param in schema.parameters:
+        expected = param.space.to_edit(mat.maps[param.name])
+        assert np.array_equal(edit[param.name], expected)
+    assert list(schema.channel_indices(["normal", "metallic"])) == [4, 5, 6, 7]
+
+
+def test_banded_conversion_equals_one_shot(monkeypatch: pytest.MonkeyPatch) -> None:
+    mat = _material(height=37, width=11)
+    whole = mat.to_edit().data
+    monkeypatch.setattr(material_module, "_BAND_TEXELS", 16)  # many tiny bands
+    progress = []
+    banded = mat.to_edit(progress=lambda d, t: progress.append((d, t)))
+    assert np.array_equal(banded.data, whole)
+    assert progress[-1][0] == progress[-1][1] > 1
+    back_whole = banded.to_physical()
+    for name in mat.schema.names:
+        assert np.allclose(back_whole.maps[name], mat.maps[name], atol=2e-5)
+
+
+def test_mismatched_maps_are_refused_with_the_parameter_named() -> None:
+    mat = _material()
+    maps = dict(mat.maps)
+    maps["metallic"] = np.zeros((5, 5, 1), dtype=np.float32)
+    with pytest.raises(ValueError, match="differ in size"):
+        Material("bad", mat.schema, maps)
+    maps = dict(mat.maps)
+    maps["roughness"] = np.zeros((5, 4, 3), dtype=np.float32)
+    with pytest.raises(ValueError, match="roughness"):
+        Material("bad", mat.schema, maps)
+
+
+def test_space_overrides_and_unknown_names() -> None:
+    schema = Schema.from_names(["roughness"], {"roughness": "ggx_alpha"})
+    assert schema["roughness"].space.name == "ggx_alpha"
+    with pytest.raises(KeyError, match="unknown editing space"):
+        Schema.from_names(["roughness"], {"roughness": "nope"})
+    with pytest.raises(KeyError, match="unknown parameter"):
+        Schema.from_names(["sparkle"])
