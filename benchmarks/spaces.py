@@ -85,7 +85,8 @@ def main() -> None:
     for param in material.schema.parameters:
         phys = material.maps[param.name]
         param_baseline = copy_time(phys.nbytes, args.repeat)
-        t = best_time(lambda: param.space.from_edit(param.space.to_edit(phys)), args.repeat)
+        space = param.space
+        t = best_time(lambda s=space, p=phys: s.from_edit(s.to_edit(p)), args.repeat)
         report(f"  {param.name} ({param.space.name}) round trip", t, param_baseline, phys.nbytes)
 
     from matshop.spaces import get_space

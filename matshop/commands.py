@@ -69,7 +69,8 @@ def describe(material: Material, report: LoadReport) -> str:
         )
     widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
     for row in [header, *rows]:
-        lines.append("  " + "  ".join(str(c).ljust(w) for c, w in zip(row, widths)).rstrip())
+        cells = (str(c).ljust(w) for c, w in zip(row, widths, strict=True))
+        lines.append(("  " + "  ".join(cells)).rstrip())
     lines.append("")
     lines.append(
         f"edit vector: {material.schema.edit_width} channels per texel "
@@ -82,9 +83,7 @@ def describe(material: Material, report: LoadReport) -> str:
 
 
 def _slices(material: Material) -> list[tuple[str, str]]:
-    return [
-        (name, f"[{sl.start}:{sl.stop}]") for name, sl in material.schema.edit_slices.items()
-    ]
+    return [(name, f"[{sl.start}:{sl.stop}]") for name, sl in material.schema.edit_slices.items()]
 
 
 def cmd_info(args: argparse.Namespace) -> int:

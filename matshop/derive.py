@@ -19,7 +19,7 @@ from .spaces.sampled import d_from_ggx
 MIN_ALPHA = 0.02
 
 
-def with_sampled_distribution(material: Material, *, bins: int = 128) -> Material:
+def with_sampled_distribution(material: Material) -> Material:
     """Replace ``roughness`` (GGX perceptual) by a sampled ``distribution``."""
     if "roughness" not in material.schema:
         raise MatshopError(
@@ -27,13 +27,12 @@ def with_sampled_distribution(material: Material, *, bins: int = 128) -> Materia
         )
     roughness = material.maps["roughness"][..., 0]
     alpha = np.clip(roughness.astype(np.float64) ** 2, MIN_ALPHA, 1.0)
-    distribution = d_from_ggx(alpha, n=bins)
-    params = []
-    for param in material.schema.parameters:
-        if param.name == "roughness":
-            params.append(Parameter("distribution", get_space("sampled")))
-        else:
-            params.append(param)
+    space = get_space("sampled")
+    distribution = d_from_ggx(alpha, n=space.phys_channels)
+    params = [
+        Parameter("distribution", space) if p.name == "roughness" else p
+        for p in material.schema.parameters
+    ]
     maps = {k: v for k, v in material.maps.items() if k != "roughness"}
     maps["distribution"] = distribution
     sources = {k: v for k, v in material.sources.items() if k != "roughness"}

@@ -58,19 +58,13 @@ PARAMETER_KINDS: dict[str, ParameterKind] = {
             "ashikhmin_shirley",
             "Ashikhmin-Shirley nu, nv",
         ),
-        ParameterKind(
-            "beckmann_roughness", "Beckmann roughness", "beckmann", "Beckmann slope m"
-        ),
-        ParameterKind(
-            "distribution", "Microfacet distribution", "sampled", "sampled d(theta)"
-        ),
+        ParameterKind("beckmann_roughness", "Beckmann roughness", "beckmann", "Beckmann slope m"),
+        ParameterKind("distribution", "Microfacet distribution", "sampled", "sampled d(theta)"),
         ParameterKind("profile", "Subsurface profile", "subsurface", "SubEdit profile p(r)"),
         ParameterKind("normal", "Normal", "normal", "tangent-space frame (normal map)"),
         ParameterKind("ao", "Ambient occlusion", "identity", "ambient occlusion, linear"),
         ParameterKind("opacity", "Opacity", "identity", "opacity / alpha, linear"),
-        ParameterKind(
-            "transmission", "Transmission", "identity", "transmission weight, linear"
-        ),
+        ParameterKind("transmission", "Transmission", "identity", "transmission weight, linear"),
         ParameterKind("height", "Height", "identity_unbounded", "displacement, linear"),
     )
 }
@@ -113,9 +107,7 @@ class Schema:
         self.edit_width = start
 
     @classmethod
-    def from_names(
-        cls, names: Iterable[str], spaces: Mapping[str, str] | None = None
-    ) -> Schema:
+    def from_names(cls, names: Iterable[str], spaces: Mapping[str, str] | None = None) -> Schema:
         """Build a schema from parameter names, each with its default space
         unless ``spaces`` overrides it (``{"roughness": "ggx_alpha"}``)."""
         spaces = dict(spaces or {})

@@ -57,7 +57,7 @@ def main(out_dir: Path) -> None:
     rows, cols = np.mgrid[0:SIZE, 0:SIZE].astype(np.float32)
     height += np.where(grout, 0.0, tilt[tile_id, 0] * (rows % (SIZE // TILES)))
     height += np.where(grout, 0.0, tilt[tile_id, 1] * (cols % (SIZE // TILES)))
-    height += 0.35 * periodic_noise(rng, 1.5) + np.where(grout, 0.6 * periodic_noise(rng, 1.0), 0)
+    height += 0.5 * periodic_noise(rng, 3.0) + np.where(grout, 0.5 * periodic_noise(rng, 2.0), 0)
     normal = height_to_normal(height[..., None].astype(np.float32), strength=1.0, wrap=True)
 
     # base color, built in linear reflectance then sRGB-encoded
@@ -67,7 +67,7 @@ def main(out_dir: Path) -> None:
     grout_color = np.array([0.30, 0.29, 0.27]) * np.ones((SIZE, SIZE, 1))
     albedo = np.where(gold_row[..., None], gold, ceramic)
     albedo = np.where(grout[..., None], grout_color, albedo)
-    albedo *= 1.0 + 0.06 * periodic_noise(rng, 2.0)[..., None]
+    albedo *= 1.0 + 0.06 * periodic_noise(rng, 3.0)[..., None]
     base_color = linear_to_srgb(np.clip(albedo, 0.0, 1.0).astype(np.float32))
 
     # roughness: glossy glaze, rough grout, brushed gold streaks along rows
@@ -75,7 +75,7 @@ def main(out_dir: Path) -> None:
     streaks = gaussian_filter(rng.standard_normal((SIZE, SIZE)), (0.5, 12.0), mode="wrap")
     streaks /= streaks.std()
     roughness = np.where(gold_row, 0.3 + 0.05 * streaks, tile_rough)
-    roughness = np.where(grout, 0.85, roughness) + 0.03 * periodic_noise(rng, 1.0)
+    roughness = np.where(grout, 0.85, roughness) + 0.03 * periodic_noise(rng, 2.5)
     metallic = np.where(gold_row & ~grout, 1.0, 0.0)
     occlusion = np.clip(0.55 + 0.45 * np.clip(edge_dist / (2 * BEVEL_PX) + 0.5, 0, 1), 0, 1)
 

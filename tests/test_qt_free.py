@@ -36,9 +36,7 @@ print(",".join(leaked))
 
 
 def _leaked(modules: list[str]) -> list[str]:
-    code = _PROBE.format(
-        imports="\n".join(f"import {m}" for m in modules), forbidden=FORBIDDEN
-    )
+    code = _PROBE.format(imports="\n".join(f"import {m}" for m in modules), forbidden=FORBIDDEN)
     result = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
     )

@@ -20,13 +20,16 @@ import numpy as np
 
 from ..errors import MatshopError
 from ..material import PARAMETER_KINDS, Material, ProgressCallback, Schema
-from ..spaces.frame import decode_normal_map, encode_normal_map, guess_normal_convention
-from ..spaces.frame import height_to_normal
+from ..spaces.frame import (
+    decode_normal_map,
+    encode_normal_map,
+    guess_normal_convention,
+    height_to_normal,
+)
 from .images import ImageInfo, read_image, write_image
-from .textureset import TextureSet, detect_texture_set
+from .textureset import PACKED_CHANNELS, TextureSet, detect_texture_set
 
-#: (slot, channel index or "gloss") feeding scalar parameters; a packed map
-#: only fills a parameter that no dedicated map provides.
+#: slots whose first channel is a scalar parameter
 _SCALAR_SLOTS: dict[str, str] = {
     "metallic": "metallic",
     "roughness": "roughness",
@@ -40,10 +43,12 @@ _COLOR_SLOTS: dict[str, str] = {
     "specular": "specular",
     "emissive": "emissive",
 }
-#: packed slot -> {parameter: (channel, invert)}
-_PACKED_SLOTS: dict[str, dict[str, tuple[int, bool]]] = {
-    "orm": {"ao": (0, False), "roughness": (1, False), "metallic": (2, False)},
-    "mask": {"metallic": (0, False), "ao": (1, False), "roughness": (3, True)},
+#: what a packed channel's meaning (textureset.PACKED_CHANNELS) feeds: (parameter, inverted)
+_PACKED_MEANINGS: dict[str, tuple[str, bool]] = {
+    "ao": ("ao", False),
+    "roughness": ("roughness", False),
+    "metallic": ("metallic", False),
+    "smoothness": ("roughness", True),
 }
 #: matshop's own wide maps and the channel count each must have
 _WIDE_SLOTS: dict[str, str] = {"distribution": "distribution", "profile": "profile"}
@@ -143,7 +148,8 @@ def load_material(
     for slot, param in _COLOR_SLOTS.items():
         if slot in arrays:
             take(param, _as_rgb(arrays[slot], ts.maps[slot]), slot)
-            if slot == "base_color" and arrays[slot].shape[2] in (2, 4) and "opacity" not in ts.maps:
+            has_alpha = arrays[slot].shape[2] in (2, 4)
+            if slot == "base_color" and has_alpha and "opacity" not in ts.maps:
                 take("opacity", np.ascontiguousarray(arrays[slot][..., -1:]), slot)
     for slot, param in _SCALAR_SLOTS.items():
         if slot in arrays:
@@ -151,17 +157,20 @@ def load_material(
     if "gloss" in arrays and "roughness" not in maps:
         take("roughness", 1.0 - _first_channel(arrays["gloss"]), "gloss", inverted="gloss")
         report.notes.append(f"{ts.maps['gloss'].name}: gloss inverted into roughness")
-    for slot, unpack in _PACKED_SLOTS.items():
+    for slot, layout in PACKED_CHANNELS.items():
         if slot not in arrays:
             continue
         array = arrays[slot]
-        for param, (channel, invert) in unpack.items():
+        for channel, meaning in enumerate(layout):
+            if meaning not in _PACKED_MEANINGS:
+                continue  # unused or not a material parameter (HDRP detail mask)
+            param, invert = _PACKED_MEANINGS[meaning]
             if param in maps:
-                continue
+                continue  # a dedicated map wins over a packed one
             if channel >= array.shape[2]:
                 raise MatshopError(
-                    f"packed {slot} map needs channel {'RGBA'[channel]} for {param},"
-                    f" file has {array.shape[2]} channel(s)",
+                    f"packed {slot} map needs channel {'RGBA'[channel]} for {meaning},"
+                    f" the file has {array.shape[2]} channel(s)",
                     ts.maps[slot],
                 )
             values = array[..., channel : channel + 1]
@@ -252,8 +261,14 @@ def _file_plan(material: Material) -> list[tuple[str, np.ndarray, str, dict]]:
         attrs = {"matshop:space": param.space.name}
         if name == "normal":
             convention = material.sources.get(name, {}).get("convention", "opengl")
-            plan.append((f"{tag}.png", encode_normal_map(array[..., :3], convention=convention),
-                         depth if depth in ("uint8", "uint16") else "uint16", attrs))
+            plan.append(
+                (
+                    f"{tag}.png",
+                    encode_normal_map(array[..., :3], convention=convention),
+                    depth if depth in ("uint8", "uint16") else "uint16",
+                    attrs,
+                )
+            )
             if array.shape[2] == 6:
                 tangent = encode_normal_map(array[..., 3:], convention=convention)
                 plan.append(("tangent.png", tangent, "uint16", attrs))
@@ -292,7 +307,9 @@ def save_material(
     except OSError as exc:
         raise MatshopError(f"cannot write here: {exc.strerror or exc}", out) from None
     try:
-        for done, ((suffix, array, depth, attrs), target) in enumerate(zip(plan, targets), 1):
+        for done, ((_, array, depth, attrs), target) in enumerate(
+            zip(plan, targets, strict=True), 1
+        ):
             write_image(staging / target.name, array, bit_depth=depth, attributes=attrs)
             if progress:
                 progress(done, len(plan))

@@ -1,0 +1,244 @@
+"""Texture-set detection from file names (names only: files may be empty)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from matshop.errors import MatshopError
+from matshop.io.textureset import SLOTS, detect_texture_set, parse_map_name
+
+CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
+
+NAMES = [
+    # Poly Haven
+    ("rock_wall_diff_2k.png", "base_color", "rock_wall", None),
+    ("rock_wall_nor_gl_2k.exr", "normal", "rock_wall", "opengl"),
+    ("rock_wall_nor_dx_2k.exr", "normal", "rock_wall", "directx"),
+    ("rock_wall_rough_2k.png", "roughness", "rock_wall", None),
+    ("rock_wall_arm_2k.png", "orm", "rock_wall", None),
+    ("rock_wall_disp_4k.png", "height", "rock_wall", None),
+    # ambientCG
+    ("Bricks076C_2K-PNG_Color.png", "base_color", "Bricks076C", None),
+    ("Bricks076C_2K-PNG_NormalGL.png", "normal", "Bricks076C", "opengl"),
+    ("Bricks076C_2K-PNG_NormalDX.png", "normal", "Bricks076C", "directx"),
+    ("Bricks076C_2K-PNG_Roughness.png", "roughness", "Bricks076C", None),
+    ("Bricks076C_2K-PNG_AmbientOcclusion.png", "ao", "Bricks076C", None),
+    ("Bricks076C_2K-PNG_Displacement.png", "height", "Bricks076C", None),
+    # Substance / Unreal / Unity
+    ("Mat_BaseColor.png", "base_color", "Mat", None),
+    ("Mat_Base_Color.png", "base_color", "Mat", None),
+    ("Mat_Normal.png", "normal", "Mat", None),
+    ("Mat_Normal_OpenGL.png", "normal", "Mat", "opengl"),
+    ("Mat_Normal_DirectX.png", "normal", "Mat", "directx"),
+    ("Mat_OcclusionRoughnessMetallic.png", "orm", "Mat", None),
+    ("Mat_MaskMap.png", "mask", "Mat", None),
+    ("Mat_MetallicSmoothness.png", "metallic_smoothness", "Mat", None),
+    ("Mat_AlbedoTransparency.png", "base_color", "Mat", None),
+    ("Mat_metallicRoughness.png", "metallic_roughness", "Mat", None),
+    ("Mat_Height.png", "height", "Mat", None),
+    ("Mat_Emissive.png", "emissive", "Mat", None),
+    ("T_Rock_ORM.tga", "orm", "T_Rock", None),
+    ("rock_NormalMap.png", "normal", "rock", None),
+    ("Aset_rock_4K_Normal_LOD0.jpg", "normal", "Aset_rock", None),
+    ("matBaseColor.png", "base_color", "mat", None),
+    # others
+    ("wood_Glossiness.jpg", "gloss", "wood", None),
+    ("wood_col_v2.png", "base_color", "wood", None),
+    ("chessboard_base_color.jpg", "base_color", "chessboard", None),
+    ("rock_normalgl.png", "normal", "rock", "opengl"),
+    ("rock_bmp.png", "bump", "rock", None),
+    ("Rock_AO.png", "ao", "Rock", None),
+    ("rock wall #3 - roughness.png", "roughness", "rock wall #3", None),
+    ("velvet_ndf.exr", "distribution", "velvet", None),
+    ("skin_sss.exr", "profile", "skin", None),
+    ("albedo.png", "base_color", "", None),
+    ("rock_diff (1).png", "base_color", "rock", None),
+    ("Holz_Oberfläche_Rauheit_roughness.png", "roughness", "Holz_Oberfläche_Rauheit", None),
+    # ambiguous tokens inside material names: only the end counts
+    ("spec_ops_crate_diff.png", "base_color", "spec_ops_crate", None),
+    ("metal_plate_rough_4k.png", "roughness", "metal_plate", None),
+    ("gas_mask_diff.png", "base_color", "gas_mask", None),
+    ("tan_leather_nor.png", "normal", "tan_leather", None),
+    ("col_stone_spec.png", "specular", "col_stone", None),
+    ("leather_tan.png", "tangent", "leather", None),
+]
+
+
+@pytest.mark.parametrize(("name", "slot", "material", "convention"), NAMES)
+def test_names(name, slot, material, convention):
+    parsed = parse_map_name(name)
+    assert parsed is not None, name
+    assert (parsed.slot, parsed.material, parsed.convention) == (slot, material, convention)
+
+
+@pytest.mark.parametrize(
+    "name", ["Bricks076C.png", "preview.png", "rock_gl.png", "rock_2k.png", "1234.png", "_.png"]
+)
+def test_names_without_a_tag(name):
+    assert parse_map_name(name) is None
+
+
+def test_every_tag_in_the_table_finds_its_slot():
+    for slot, spec in SLOTS.items():
+        assert spec.description
+        for tag in spec.tags:
+            for name in (f"mat_{tag.replace(' ', '_')}.png", f"MAT-{tag.upper()}.exr"):
+                parsed = parse_map_name(name)
+                assert parsed is not None and parsed.slot == slot, (name, parsed)
+                assert parsed.material.lower() == "mat"
+
+
+def make_folder(root: Path, *names: str) -> Path:
+    root.mkdir(parents=True, exist_ok=True)
+    for name in names:
+        (root / name).write_bytes(b"")
+    return root
+
+
+def test_poly_haven_folder(tmp_path):
+    folder = make_folder(
+        tmp_path / "ph",
+        "rock_wall_diff_2k.png",
+        "rock_wall_nor_gl_2k.exr",
+        "rock_wall_nor_dx_2k.exr",
+        "rock_wall_rough_2k.png",
+        "rock_wall_arm_2k.png",
+        "rock_wall.blend",
+    )
+    ts = detect_texture_set(folder)
+    assert ts.name == "rock_wall" and ts.folder == folder
+    assert {k: p.name for k, p in ts.maps.items()} == {
+        "base_color": "rock_wall_diff_2k.png",
+        "normal": "rock_wall_nor_gl_2k.exr",
+        "roughness": "rock_wall_rough_2k.png",
+        "orm": "rock_wall_arm_2k.png",
+    }
+    assert ts.hints == {"normal": {"convention": "opengl"}}
+    assert [p.name for p in ts.alternates["normal"]] == ["rock_wall_nor_dx_2k.exr"]
+    assert ts.unrecognised == []
+
+
+def test_ambientcg_folder_with_preview(tmp_path):
+    stem = "Bricks076C_2K-PNG"
+    folder = make_folder(
+        tmp_path / "acg",
+        *(f"{stem}_{t}.png" for t in ("Color", "NormalGL", "NormalDX", "Roughness")),
+        f"{stem}_AmbientOcclusion.png",
+        f"{stem}_Displacement.png",
+        "Bricks076C.png",
+        f"{stem}.usdc",
+        f"{stem}.mtlx",
+    )
+    ts = detect_texture_set(folder)
+    assert ts.name == "Bricks076C"
+    assert set(ts.maps) == {"base_color", "normal", "roughness", "ao", "height"}
+    assert ts.maps["normal"].name.endswith("NormalGL.png")
+    assert [p.name for p in ts.unrecognised] == ["Bricks076C.png"]
+    # one file of the set selects the same set
+    one = detect_texture_set(folder / f"{stem}_Roughness.png")
+    assert one.maps == ts.maps and one.name == ts.name
+
+
+def test_substance_and_unity_names(tmp_path):
+    folder = make_folder(
+        tmp_path / "sub",
+        "Mat_BaseColor.png",
+        "Mat_Normal.png",
+        "Mat_OcclusionRoughnessMetallic.png",
+        "Mat_MaskMap.png",
+        ".Mat_Height.tmp-1a2b.png",  # a temp file of an interrupted save
+    )
+    ts = detect_texture_set(folder)
+    assert set(ts.maps) == {"base_color", "normal", "orm", "mask"} and ts.name == "Mat"
+    assert ts.hints == {}
+
+
+def test_unnamed_material_takes_folder_name(tmp_path):
+    ts = detect_texture_set(make_folder(tmp_path / "oak", "albedo.png", "normal.png"))
+    assert ts.name == "oak" and set(ts.maps) == {"base_color", "normal"}
+
+
+def test_preview_named_like_material_is_not_a_map(tmp_path):
+    folder = make_folder(
+        tmp_path / "m",
+        "rusty_metal_02_diff_2k.png",
+        "rusty_metal_02_rough_2k.png",
+        "rusty_metal_02.png",
+    )
+    ts = detect_texture_set(folder)
+    assert set(ts.maps) == {"base_color", "roughness"}
+    assert [p.name for p in ts.unrecognised] == ["rusty_metal_02.png"]
+
+
+def test_several_materials_need_a_file_to_choose(tmp_path):
+    folder = make_folder(
+        tmp_path / "two",
+        "rock_diff.png",
+        "rock_nor.png",
+        "wood_diff.png",
+        "wood_rough.png",
+        "wood_notes.png",
+    )
+    with pytest.raises(MatshopError, match="several materials") as err:
+        detect_texture_set(folder)
+    message = str(err.value)
+    assert "\n" not in message and "rock" in message and "wood" in message
+    ts = detect_texture_set(folder / "wood_rough.png")
+    assert ts.name == "wood" and set(ts.maps) == {"base_color", "roughness"}
+    assert [p.name for p in ts.unrecognised] == ["wood_notes.png"]
+
+
+def test_resolutions_are_separate_sets(tmp_path):
+    folder = make_folder(
+        tmp_path / "res", "rock_diff_2k.png", "rock_rough_2k.png", "rock_diff_4k.png"
+    )
+    with pytest.raises(MatshopError, match="several materials"):
+        detect_texture_set(folder)
+    ts = detect_texture_set(folder / "rock_rough_2k.png")
+    assert {p.name for p in ts.maps.values()} == {"rock_diff_2k.png", "rock_rough_2k.png"}
+
+
+@pytest.mark.parametrize(
+    ("names", "clash"),
+    [
+        (("rock_diff.png", "rock_albedo.png"), "base_color"),
+        (("rock_diff.png", "rock_diff.jpg"), "base_color"),
+        (("rock_nor.png", "rock_nor_gl.png"), "normal"),  # only one says its convention
+    ],
+)
+def test_two_files_for_one_slot(tmp_path, names, clash):
+    folder = make_folder(tmp_path / "c", *names)
+    with pytest.raises(MatshopError, match=f"both claim the {clash} slot") as err:
+        detect_texture_set(folder)
+    for name in names:
+        assert name in str(err.value)
+
+
+@pytest.mark.parametrize("names", [(), ("readme.txt",), ("photo.png", "notes.jpg")])
+def test_nothing_recognised(tmp_path, names):
+    folder = make_folder(tmp_path / "none", *names)
+    with pytest.raises(MatshopError, match="no texture maps recognised") as err:
+        detect_texture_set(folder)
+    message = str(err.value)
+    assert "\n" not in message and str(folder) in message and "_basecolor.png" in message
+
+
+def test_bad_paths(tmp_path):
+    with pytest.raises(MatshopError, match="not found"):
+        detect_texture_set(tmp_path / "nowhere")
+    folder = make_folder(tmp_path / "f", "rock_diff.png", "rock.txt", "Bricks.png")
+    with pytest.raises(MatshopError, match="not an image file"):
+        detect_texture_set(folder / "rock.txt")
+    with pytest.raises(MatshopError, match="names no texture map") as err:
+        detect_texture_set(folder / "Bricks.png")
+    assert "Bricks.png" in str(err.value)
+
+
+@pytest.mark.skipif(not CHESSBOARD.is_dir(), reason=f"{CHESSBOARD} not present")
+def test_real_chessboard_folder():
+    ts = detect_texture_set(CHESSBOARD)
+    assert ts.name == "chessboard"
+    assert set(ts.maps) == {"base_color", "metallic", "normal", "roughness"}
+    assert detect_texture_set(CHESSBOARD / "chessboard_normal.jpg").maps == ts.maps
