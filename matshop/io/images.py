@@ -13,6 +13,8 @@ non-finite files; formats that cannot hold the data) raises
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -82,6 +84,25 @@ def probe_image(path: str | os.PathLike[str], *, max_pixels: int = MAX_PIXELS) -
     return info
 
 
+@contextmanager
+def _c_stderr_silenced() -> Iterator[None]:
+    """Mute file descriptor 2 for the duration of a C library call.
+
+    libpng prints "libpng error: ..." straight to fd 2 before OpenImageIO
+    reports the same problem through ``geterror``; the user should see our
+    one-line error only.
+    """
+    saved = os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+
+
 def read_image(
     path: str | os.PathLike[str], *, max_pixels: int = MAX_PIXELS
 ) -> tuple[np.ndarray, ImageInfo]:
@@ -98,7 +119,8 @@ def read_image(
     # (OpenImageIO multiplies by 1/255, one ulp off) and writes round-trip exactly.
     native = info.bit_depth in ("uint8", "uint16") and not inp.spec().channelformats
     try:
-        pixels = inp.read_image(0, 0, 0, info.channels, info.bit_depth if native else "float")
+        with _c_stderr_silenced():
+            pixels = inp.read_image(0, 0, 0, info.channels, info.bit_depth if native else "float")
         error = inp.geterror() if inp.has_error else ""
     finally:
         inp.close()
