@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib.util
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -51,3 +52,17 @@ def test_engine_imports_leave_qt_out() -> None:
 def test_the_probe_would_see_qt_if_it_were_imported() -> None:
     # guards against a probe that can never fail
     assert _leaked(["PySide6.QtCore"]) == ["PySide6"]
+
+
+def test_import_linter_contract_is_kept() -> None:
+    """The pyproject contract, checked statically (catches imports that run lazily too)."""
+    root = Path(__file__).resolve().parents[1]
+    code = (
+        "import sys; from importlinter.cli import lint_imports; "
+        f"sys.exit(lint_imports(config_filename={str(root / 'pyproject.toml')!r}, no_cache=True))"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=root
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "1 kept, 0 broken" in result.stdout
