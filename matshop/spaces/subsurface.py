@@ -193,6 +193,13 @@ class SubsurfaceProfileSpace(Space):
         self.edges = radius_edges(n, self.r_max)
         self.measure = radius_measure(n, self.r_max)
 
+    def edit_groups(self) -> list[tuple[str, slice, str, EditRange, np.ndarray]]:
+        """Albedo is a linear scalar; the inverse CDF is one vector with quadrature ``dy``."""
+        return [
+            ("albedo", slice(0, 1), "channels", EditRange(0.0, 1.0), np.ones(1)),
+            ("profile", self.profile_channels, "vector", self.edit_range, self.dy),
+        ]
+
     def to_edit(self, phys: np.ndarray) -> np.ndarray:
         p = as_channels(phys, self.phys_channels, self.name)
         rows = np.ascontiguousarray(p).reshape(-1, self.phys_channels)

@@ -1,0 +1,67 @@
+"""Scale: ``p~' = s * p~``.
+
+In edit space this has a meaning per parameter: halves the reflected energy
+of a color, scales every frame perturbation angle by ``s`` (0 flattens),
+narrows (s < 1) or widens (s > 1) a microfacet lobe.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..material import Schema
+from .selection import Selection
+from .spec import OpSpec, ParamSpec
+
+
+def scale(
+    edit: np.ndarray,
+    *,
+    factor: float = 1.0,
+    schema: Schema | None = None,
+    params: Sequence[str] | str | None = None,
+    mask: np.ndarray | None = None,
+) -> np.ndarray:
+    """Multiply the selected edit channels by ``factor``.
+
+    Parameters
+    ----------
+    edit : (H, W, C) float32 ndarray
+        Edit-space values; never modified.
+    factor : float
+        The scale ``s``.
+    schema, params : which parameters to touch (all when ``params`` is None).
+    mask : (H, W) ndarray in [0, 1], optional
+        Blends the result with the input.
+
+    Returns
+    -------
+    (H, W, C) float32 ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> scale(np.ones((1, 1, 2), np.float32), factor=0.5)[0, 0].tolist()
+    [0.5, 0.5]
+    """
+    selection = Selection(edit, schema=schema, params=params, mask=mask, op="scale")
+    block = selection.take(edit)
+    return selection.put(edit, np.multiply(block, np.float32(factor), dtype=np.float32))
+
+
+SPECS = (
+    OpSpec(
+        name="scale",
+        label="Scale",
+        summary="multiply edit values: energy of colors, angle of frames, width of lobes",
+        function=scale,
+        params=(
+            ParamSpec(
+                "factor", "float", 1.0, "the scale s", hard_range=(-100.0, 100.0), ui_range=(0, 2)
+            ),
+        ),
+        linear=True,
+    ),
+)

@@ -1,0 +1,177 @@
+"""Declarative descriptions of operations and their parameters.
+
+Each op module declares one :class:`OpSpec`: its name, what it does, whether
+it is linear in the edit values, and every parameter with unit, default,
+hard range (validation) and UI range (sliders), in the manner of GEGL's
+``value_range``/``ui_range``. The CLI, the Python API, filter layers and tool
+panels all read these descriptions, so adding an op is one module and one
+registry entry.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from ..errors import MatshopError
+
+ParamKind = Literal["float", "int", "bool", "choice", "points", "offset", "path", "region"]
+
+
+class OpError(MatshopError):
+    """A bad op name or parameter value: one line naming the op and the parameter."""
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One parameter of an op.
+
+    ``hard_range`` bounds what is accepted at all; ``ui_range`` is what a
+    slider spans by default. ``unit`` is part of the name too (``sigma_px``).
+    """
+
+    name: str
+    kind: ParamKind
+    default: Any
+    doc: str
+    unit: str = ""
+    hard_range: tuple[float, float] | None = None
+    ui_range: tuple[float, float] | None = None
+    choices: tuple[str, ...] = ()
+    required: bool = False
+
+    def parse(self, text: str, op: str) -> Any:
+        """Parse a command-line ``key=value`` value into this parameter's type."""
+        try:
+            if self.kind == "float":
+                return float(text)
+            if self.kind == "int":
+                return int(text)
+            if self.kind == "bool":
+                lowered = text.strip().lower()
+                if lowered in ("1", "true", "yes", "on"):
+                    return True
+                if lowered in ("0", "false", "no", "off"):
+                    return False
+                raise ValueError(text)
+            if self.kind == "points":  # "0,0;0.5,0.7;1,1"
+                return [tuple(float(v) for v in pair.split(",")) for pair in text.split(";")]
+            if self.kind == "offset":  # "dx,dy"
+                dx, dy = (int(round(float(v))) for v in text.split(","))
+                return (dx, dy)
+        except ValueError:
+            raise OpError(f"{op}: {self.name}={text!r} is not a valid {self.kind}") from None
+        return text  # choice, path, region: validated later
+
+    def validate(self, value: Any, op: str) -> Any:
+        """Check ``value`` against the declared type and hard range; return it normalised."""
+        where = f"{op}: {self.name}"
+        if self.kind in ("float", "int"):
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise OpError(f"{where} must be a number, got {value!r}")
+            if not math.isfinite(value):
+                raise OpError(f"{where} must be finite, got {value!r}")
+            if self.kind == "int" and value != int(value):
+                raise OpError(f"{where} must be a whole number, got {value!r}")
+            value = int(value) if self.kind == "int" else float(value)
+            if self.hard_range is not None:
+                lo, hi = self.hard_range
+                if not lo <= value <= hi:
+                    unit = f" {self.unit}" if self.unit else ""
+                    raise OpError(f"{where}={value:g} is outside [{lo:g}, {hi:g}]{unit}")
+        elif self.kind == "bool":
+            if not isinstance(value, bool):
+                raise OpError(f"{where} must be true or false, got {value!r}")
+        elif self.kind == "choice":
+            if value not in self.choices:
+                raise OpError(f"{where}={value!r}: choose one of {', '.join(self.choices)}")
+        elif self.kind == "points":
+            value = _validate_points(value, where, self.hard_range)
+        elif self.kind == "offset":
+            try:
+                dx, dy = value
+                value = (int(dx), int(dy))
+            except (TypeError, ValueError):
+                raise OpError(f"{where} must be two whole numbers dx,dy, got {value!r}") from None
+        return value
+
+
+def _validate_points(
+    value: Any, where: str, hard_range: tuple[float, float] | None
+) -> tuple[tuple[float, float], ...]:
+    try:
+        points = tuple((float(x), float(y)) for x, y in value)
+    except (TypeError, ValueError):
+        raise OpError(f"{where} must be control points x,y;x,y;..., got {value!r}") from None
+    if len(points) < 2:
+        raise OpError(f"{where} needs at least two control points, got {len(points)}")
+    if not all(math.isfinite(c) for point in points for c in point):
+        raise OpError(f"{where} control points must be finite")
+    xs = [x for x, _ in points]
+    if any(b <= a for a, b in zip(xs, xs[1:], strict=False)):
+        raise OpError(f"{where} control points need strictly increasing x, got {xs}")
+    if hard_range is not None and (xs[0] < hard_range[0] or xs[-1] > hard_range[1]):
+        raise OpError(f"{where} x must lie in [{hard_range[0]:g}, {hard_range[1]:g}]")
+    return points
+
+
+@dataclass(frozen=True)
+class OpSpec:
+    """An operation: the pure function and everything a front end needs to offer it."""
+
+    name: str
+    label: str
+    summary: str
+    function: Callable[..., Any]
+    params: tuple[ParamSpec, ...]
+    #: linear in the edit values (op(a x + b y) == a op(x) + b op(y)): the
+    #: principled ops of the seed paper, flagged so the UI can say so
+    linear: bool
+    #: reads a neighbourhood (has a ``border`` parameter)
+    neighbourhood: bool = False
+    #: parameter families it is meant for ("all" or space names)
+    suits: tuple[str, ...] = ("all",)
+    #: extra inputs beyond the edit array (e.g. the layer composited over)
+    inputs: tuple[str, ...] = field(default_factory=tuple)
+
+    def param(self, name: str) -> ParamSpec:
+        for spec in self.params:
+            if spec.name == name:
+                return spec
+        known = ", ".join(p.name for p in self.params)
+        raise OpError(f"{self.name}: unknown parameter {name!r} (has: {known})")
+
+    def bind(self, values: Mapping[str, Any]) -> dict[str, Any]:
+        """Defaults filled in, every value validated: ready to call ``function``."""
+        bound = {}
+        for key in values:
+            self.param(key)  # unknown names fail loudly
+        for spec in self.params:
+            if spec.name in values:
+                bound[spec.name] = spec.validate(values[spec.name], self.name)
+            elif spec.required:
+                raise OpError(f"{self.name}: parameter {spec.name!r} is required")
+            else:
+                bound[spec.name] = spec.default
+        return bound
+
+    def parse_args(self, pairs: Sequence[str]) -> dict[str, Any]:
+        """``["sigma_px=4", "border=clamp"]`` -> typed, unvalidated values."""
+        values = {}
+        for pair in pairs:
+            key, sep, text = pair.partition("=")
+            if not sep:
+                raise OpError(f"{self.name}: expected key=value, got {pair!r}")
+            values[key.strip()] = self.param(key.strip()).parse(text.strip(), self.name)
+        return values
+
+
+BORDER = ParamSpec(
+    "border",
+    "choice",
+    "wrap",
+    "how neighbourhoods treat the image edge: wrap (tiling textures) or clamp",
+    choices=("wrap", "clamp"),
+)
