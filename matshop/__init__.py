@@ -6,3 +6,10 @@ on export.
 """
 
 __version__ = "0.1.0"
+
+
+def open(path, **load_options):  # noqa: A001 - matshop.open is the API's front door
+    """Open a texture set for editing; see :func:`matshop.api.open`."""
+    from .api import open as _open
+
+    return _open(path, **load_options)

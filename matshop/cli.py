@@ -100,6 +100,40 @@ def build_parser() -> argparse.ArgumentParser:
     convert.add_argument("--force", action="store_true", help="overwrite existing files")
     _add_load_options(convert)
 
+    apply = verbs.add_parser(
+        "apply",
+        help="apply image operations in edit space and write the result",
+        description="Import IN, apply each --op in order in edit space on the selected "
+        "parameters, convert back and write the set into the folder OUT. "
+        "Run `matshop ops` for the operations and their parameters.",
+        epilog="example: matshop apply in/ out/ --op blur sigma_px=4 --op scale factor=0.8 "
+        "--params normal,roughness --mask mask.png",
+    )
+    apply.add_argument("input", type=Path, metavar="IN", help="texture folder or one map")
+    apply.add_argument("output", type=Path, metavar="OUT", help="output folder")
+    apply.add_argument(
+        "--op",
+        nargs="+",
+        action="append",
+        required=True,
+        metavar=("NAME", "KEY=VALUE"),
+        help="an operation and its parameters (repeatable; applied in order)",
+    )
+    apply.add_argument(
+        "--params",
+        help="comma-separated parameters to edit, e.g. base_color,roughness,normal "
+        "(default: all; aliases kd, ks, albedo work)",
+    )
+    apply.add_argument("--mask", type=Path, help="grayscale image blending every op's result")
+    apply.add_argument("--force", action="store_true", help="overwrite existing files")
+    _add_load_options(apply)
+
+    verbs.add_parser(
+        "ops",
+        help="list the operations and their parameters",
+        description="List every operation with its parameters, units, defaults and ranges.",
+    )
+
     verbs.add_parser(
         "spaces",
         help="list the editing spaces",

@@ -20,7 +20,14 @@ _ENCODINGS = {
 
 
 def run(args: argparse.Namespace) -> int:
-    handler = {"info": cmd_info, "convert": cmd_convert, "spaces": cmd_spaces, "demo": cmd_demo}
+    handler = {
+        "info": cmd_info,
+        "convert": cmd_convert,
+        "apply": cmd_apply,
+        "ops": cmd_ops,
+        "spaces": cmd_spaces,
+        "demo": cmd_demo,
+    }
     return handler[args.verb](args)
 
 
@@ -145,6 +152,61 @@ def cmd_convert(args: argparse.Namespace) -> int:
         print(f"wrote {path}")
     for name, error in errors.items():
         print(f"round trip {name}: worst error {error}")
+    return 0
+
+
+def cmd_apply(args: argparse.Namespace) -> int:
+    from .api import EditableMaterial
+    from .cli import _parse_spaces
+    from .ops import get_op
+
+    # parse every op before any work, so a typo in the last one costs nothing
+    steps = []
+    for name, *pairs in args.op:
+        spec = get_op(name)
+        values = spec.parse_args(pairs)
+        spec.bind({k: v for k, v in values.items() if k not in spec.inputs})
+        steps.append((name, values))
+    m = EditableMaterial.from_path(
+        args.input, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
+    )
+    mask = None
+    if args.mask is not None:
+        from .api import load_mask
+
+        mask = load_mask(args.mask, m.size)
+    with progress_bar("applying") as report:
+        for done, (name, values) in enumerate(steps, 1):
+            m.apply(name, params=args.params, mask=mask, **values)
+            report(done, len(steps))
+    with progress_bar("writing") as report:
+        written = m.save(args.output, overwrite=args.force, progress=report)
+    for name, bound, params in m.history:
+        settings = " ".join(f"{k}={v}" for k, v in bound.items())
+        print(f"applied {name} {settings} to {', '.join(params)}")
+    for path in written:
+        print(f"wrote {path}")
+    return 0
+
+
+def cmd_ops(args: argparse.Namespace) -> int:
+    from .ops import all_ops
+
+    for spec in all_ops().values():
+        kind = "linear" if spec.linear else "non-linear"
+        print(f"{spec.name}: {spec.summary} ({kind})")
+        for extra in spec.inputs:
+            print(f"    {extra + '=PATH':<26s} another texture set (required)")
+        for param in spec.params:
+            facts = []
+            if param.unit:
+                facts.append(param.unit)
+            if param.hard_range and param.kind in ("float", "int"):
+                facts.append(f"{param.hard_range[0]:g} to {param.hard_range[1]:g}")
+            if param.choices:
+                facts.append(" | ".join(param.choices))
+            setting = f"{param.name}={param.format(param.default)}"
+            print(f"    {setting:<26s} {param.doc}" + (f" ({'; '.join(facts)})" if facts else ""))
     return 0
 
 

@@ -65,6 +65,16 @@ class ParamSpec:
             raise OpError(f"{op}: {self.name}={text!r} is not a valid {self.kind}") from None
         return text  # choice, path, region: validated later
 
+    def format(self, value: Any) -> str:
+        """The command-line spelling of ``value`` (what :meth:`parse` reads back)."""
+        if self.kind == "points":
+            return ";".join(f"{x:g},{y:g}" for x, y in value)
+        if self.kind == "offset":
+            return f"{value[0]},{value[1]}"
+        if isinstance(value, float):
+            return f"{value:g}"
+        return str(value).lower() if isinstance(value, bool) else str(value)
+
     def validate(self, value: Any, op: str) -> Any:
         """Check ``value`` against the declared type and hard range; return it normalised."""
         where = f"{op}: {self.name}"

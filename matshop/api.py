@@ -1,0 +1,154 @@
+"""The Python API for scripts: open a texture set, apply ops, save.
+
+    import matshop
+    m = matshop.open("textures/rock/")
+    m.apply("blur", sigma_px=4, params=["normal", "roughness"])
+    m.apply("scale", factor=0.5, params="base_color", mask="masks/left.png")
+    m.save("out/rock_edited/")
+
+Everything runs in edit space on one concatenated array; ``save`` converts
+back through each parameter's ``from_edit`` once. The CLI's ``apply`` verb is
+a thin shell over this class.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import MatshopError
+from .io.images import read_image
+from .io.material_io import LoadReport, load_material, save_material
+from .material import EditMaterial, Material, ProgressCallback
+from .ops import get_op
+from .ops.selection import resolve_params
+
+PathLike = str | os.PathLike[str]
+
+
+def load_mask(path: PathLike, size: tuple[int, int]) -> np.ndarray:
+    """A grayscale mask image as (H, W) float32 in [0, 1], checked against ``size``."""
+    pixels, info = read_image(path)
+    if pixels.shape[:2] != tuple(size):
+        raise MatshopError(
+            f"mask is {info.width}x{info.height}, the material is {size[1]}x{size[0]}", path
+        )
+    channels = pixels.shape[2]
+    # gray, gray+alpha: the gray; RGB(A): Rec. 709 luminance of the color
+    if channels >= 3:
+        return pixels[..., :3] @ np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
+    return np.ascontiguousarray(pixels[..., 0])
+
+
+class EditableMaterial:
+    """A texture set held in edit space, with ops applied in place of the array."""
+
+    def __init__(self, edit: EditMaterial, report: LoadReport | None = None) -> None:
+        self.edit = edit
+        self.report = report
+        #: (op name, bound parameters, selected parameters) in the order applied
+        self.history: list[tuple[str, dict[str, Any], tuple[str, ...]]] = []
+
+    @classmethod
+    def from_path(cls, path: PathLike, **load_options: Any) -> EditableMaterial:
+        material, report = load_material(path, **load_options)
+        return cls(material.to_edit(), report)
+
+    @property
+    def schema(self):
+        return self.edit.schema
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.edit.size
+
+    def _as_mask(self, mask: PathLike | np.ndarray | None) -> np.ndarray | None:
+        if mask is None or isinstance(mask, np.ndarray):
+            return mask
+        return load_mask(mask, self.size)
+
+    def _as_over(self, over: Any, params: list[str]) -> tuple[np.ndarray, list[str]]:
+        """The layer to composite, aligned with this material's edit vector.
+
+        A texture set given as a path or an EditableMaterial contributes only
+        the parameters it has (in the same editing space); the others stay.
+        """
+        if isinstance(over, np.ndarray):
+            return over, params
+        source = None if isinstance(over, EditableMaterial) else over
+        other = over if source is None else EditableMaterial.from_path(source)
+        if other.size != self.size:
+            raise MatshopError(
+                f"layer is {other.size[1]}x{other.size[0]}, the material is "
+                f"{self.size[1]}x{self.size[0]}",
+                source,
+            )
+        aligned = self.edit.data.copy()
+        shared = []
+        for name in params:
+            if name in other.schema and other.schema[name].space == self.schema[name].space:
+                aligned[..., self.schema.edit_slices[name]] = other.edit[name]
+                shared.append(name)
+        if not shared:
+            raise MatshopError(
+                f"the layer shares no selected parameter with the material (layer has "
+                f"{', '.join(other.schema.names)})",
+                source,
+            )
+        return aligned, shared
+
+    def apply(
+        self,
+        op: str,
+        *,
+        params: list[str] | str | None = None,
+        mask: PathLike | np.ndarray | None = None,
+        **values: Any,
+    ) -> EditableMaterial:
+        """Apply op ``op`` with its parameters (see ``matshop ops``); returns ``self``.
+
+        ``params`` selects material parameters by name (aliases like ``kd``
+        work); ``mask`` is an (H, W) array or a grayscale image path.
+        """
+        spec = get_op(op)
+        inputs = {name: values.pop(name) for name in spec.inputs if name in values}
+        missing = [name for name in spec.inputs if name not in inputs]
+        if missing:
+            raise MatshopError(f"{op}: needs {', '.join(missing)}=... (another texture set)")
+        bound = spec.bind(values)
+        names = resolve_params(self.schema, params, op)
+        if "over" in inputs:
+            inputs["over"], names = self._as_over(inputs["over"], names)
+        result = spec.function(
+            self.edit.data,
+            *inputs.values(),
+            schema=self.schema,
+            params=names,
+            mask=self._as_mask(mask),
+            **bound,
+        )
+        self.edit = EditMaterial(self.edit.name, self.schema, result, self.edit.sources)
+        self.history.append((op, bound, tuple(names)))
+        return self
+
+    def physical(self, progress: ProgressCallback | None = None) -> Material:
+        """The material converted back to physical maps."""
+        return self.edit.to_physical(progress=progress)
+
+    def save(
+        self,
+        out_dir: PathLike,
+        *,
+        overwrite: bool = False,
+        progress: ProgressCallback | None = None,
+    ) -> list[Path]:
+        """Write the physical maps into ``out_dir``; returns the files written."""
+        return save_material(self.physical(), out_dir, overwrite=overwrite, progress=progress)
+
+
+def open(path: PathLike, **load_options: Any) -> EditableMaterial:  # noqa: A001 - the API verb
+    """Open a texture set (a folder or one of its maps) for editing."""
+    return EditableMaterial.from_path(path, **load_options)
