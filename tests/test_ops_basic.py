@@ -159,12 +159,13 @@ def test_levels_match_the_formula_per_channel() -> None:
 # ---------------------------------------------------------------- blur
 
 
+@pytest.mark.parametrize("sigma", [0.7, 3.0, 8.0, 30.0])  # seam bands, and full padding
 @pytest.mark.parametrize("border", ["wrap", "clamp"])
-def test_blur_matches_scipy_gaussian(border: str) -> None:
+def test_blur_matches_scipy_gaussian(border: str, sigma: float) -> None:
     image = RNG.random((64, 48, 5), dtype=np.float32)
-    ours = gaussian_blur(image, sigma_px=3.0, border=border)
+    ours = gaussian_blur(image, sigma_px=sigma, border=border)
     mode = "wrap" if border == "wrap" else "nearest"
-    reference = gaussian_filter(image, sigma=(3.0, 3.0, 0), mode=mode, truncate=4.0)
+    reference = gaussian_filter(image, sigma=(sigma, sigma, 0), mode=mode, truncate=4.0)
     assert np.abs(ours - reference).max() < 1e-4
 
 

@@ -43,32 +43,33 @@ def _lut_at(lut, t):
 
 
 @njit(cache=True, parallel=True)
-def lut_channels(src, lut, lo, span, out):
-    """Per channel: ``out = lo + span * lut((src - lo) / span)``."""
-    height, width, channels = src.shape
-    inv = 1.0 / span
+def lut_channels(src, channels, lo, span, lut, out):
+    """For each listed channel c: ``out = lo[c] + span[c] * lut((src - lo[c]) / span[c])``."""
+    height, width, _ = src.shape
     for row in prange(height):
         for col in range(width):
-            for c in range(channels):
-                t = (src[row, col, c] - lo) * inv
-                out[row, col, c] = lo + span * _lut_at(lut, t)
+            for k in range(channels.shape[0]):
+                c = channels[k]
+                t = (src[row, col, c] - lo[k]) / span[k]
+                out[row, col, c] = lo[k] + span[k] * _lut_at(lut, t)
 
 
 @njit(cache=True, parallel=True)
-def lut_vector(src, quadrature, lut, hi, out):
-    """By magnitude: ``v * (hi * lut(|v| / hi)) / |v|`` with ``|v| = sqrt(sum(q v^2))``."""
-    height, width, channels = src.shape
+def lut_vector(src, channels, quadrature, lut, hi, out):
+    """The listed channels as one vector: ``v * hi * lut(|v| / hi) / |v|``, |v|^2 = sum(q v^2)."""
+    height, width, _ = src.shape
     inv = 1.0 / hi
     for row in prange(height):
         for col in range(width):
             sq = 0.0
-            for c in range(channels):
-                v = src[row, col, c]
-                sq += quadrature[c] * v * v
+            for k in range(channels.shape[0]):
+                v = src[row, col, channels[k]]
+                sq += quadrature[k] * v * v
             magnitude = np.sqrt(sq)
             if magnitude > 0.0:
                 gain = hi * _lut_at(lut, magnitude * inv) / magnitude
             else:
                 gain = 0.0  # a zero vector has no direction to stretch
-            for c in range(channels):
+            for k in range(channels.shape[0]):
+                c = channels[k]
                 out[row, col, c] = src[row, col, c] * gain

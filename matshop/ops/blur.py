@@ -41,14 +41,46 @@ def _as_cv(image: np.ndarray) -> np.ndarray:
     return image[..., None] if image.ndim == 2 else image
 
 
+def _blur(image: np.ndarray, sigma_px: float, cv_border: int) -> np.ndarray:
+    return _as_cv(cv2.GaussianBlur(image, (0, 0), sigma_px, borderType=cv_border))
+
+
+def _wrapped_band(image: np.ndarray, sigma_px: float, radius: int, axis: int) -> np.ndarray:
+    """Blur of the 2*radius rows (axis 0) or columns (axis 1) that straddle the wrap seam.
+
+    Returns the band ordered [last radius, first radius] along ``axis``.
+    """
+    n = image.shape[axis]
+    take = np.r_[n - 2 * radius : n, 0 : 2 * radius]
+    strip = np.take(image, take, axis=axis)
+    # the other axis wraps too, so the corners come out right
+    pads = (0, 0, radius, radius) if axis == 0 else (radius, radius, 0, 0)
+    strip = _as_cv(cv2.copyMakeBorder(strip, *pads, cv2.BORDER_WRAP))
+    blurred = _blur(strip, sigma_px, cv2.BORDER_REFLECT_101)
+    inner = (slice(radius, 3 * radius), slice(radius, -radius))
+    return blurred[inner if axis == 0 else inner[::-1]]
+
+
 def gaussian(image: np.ndarray, sigma_px: float, border: str) -> np.ndarray:
     """Blur an (H, W, C) float32 array; ``border`` is ``"wrap"`` or ``"clamp"``."""
     if sigma_px == 0:
         return image.copy()
+    image = np.ascontiguousarray(image)
+    if border == "clamp":
+        return _blur(image, sigma_px, cv2.BORDER_REPLICATE)
     radius = kernel_radius_px(sigma_px)
-    padded = pad(np.ascontiguousarray(image), radius, border)
-    blurred = _as_cv(cv2.GaussianBlur(padded, (0, 0), sigma_px, borderType=cv2.BORDER_ISOLATED))
-    return blurred[radius:-radius, radius:-radius]
+    if 4 * radius > min(image.shape[:2]):
+        padded = pad(image, radius, border)
+        blurred = _blur(padded, sigma_px, cv2.BORDER_ISOLATED)
+        return np.ascontiguousarray(blurred[radius:-radius, radius:-radius])
+    # Wrap without padding the whole image: blur it once with any border (the
+    # interior is then exact), and redo only the bands within reach of the seams.
+    out = _blur(image, sigma_px, cv2.BORDER_REFLECT_101)
+    rows = _wrapped_band(image, sigma_px, radius, axis=0)
+    out[-radius:], out[:radius] = rows[:radius], rows[radius:]
+    cols = _wrapped_band(image, sigma_px, radius, axis=1)
+    out[:, -radius:], out[:, :radius] = cols[:, :radius], cols[:, radius:]
+    return out
 
 
 def gaussian_blur(

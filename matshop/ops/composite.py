@@ -40,11 +40,12 @@ def composite(
         coverage = np.full(under.shape[:2], opacity, dtype=np.float32)
     elif opacity != 1.0:
         coverage = coverage * np.float32(opacity)
-    out = under.copy()
     sl = selection.channels
     if selection.everything:
+        out = np.empty_like(under)
         lerp(under, over, coverage, out)
     else:
+        out = under.copy()
         block = np.empty((*under.shape[:2], selection.width), dtype=np.float32)
         lerp(selection.take(under), selection.take(over), coverage, block)
         out[..., sl] = block

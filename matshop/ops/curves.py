@@ -73,15 +73,17 @@ def apply_lut(
     block = selection.take(edit)
     result = np.empty(block.shape, dtype=np.float32)
     lut = np.ascontiguousarray(lut, dtype=np.float64)
+    # every per-channel group in one pass; each vector group in its own
+    scalar = [g for g in selection.groups if g.curve_mode != "vector"]
+    if scalar:
+        channels = np.concatenate([g.channels for g in scalar])
+        lo = np.concatenate([np.full(len(g.channels), g.edit_range.lo) for g in scalar])
+        span = np.concatenate([np.full(len(g.channels), g.edit_range.span) for g in scalar])
+        lut_channels(block, channels, lo, span, lut, result)
     for group in selection.groups:
-        src = block[..., group.channels]
-        dst = np.empty_like(src)
-        lo, span = group.edit_range.lo, group.edit_range.span
         if group.curve_mode == "vector":
-            lut_vector(src, group.quadrature.astype(np.float64), lut, span, dst)
-        else:
-            lut_channels(src, lut, lo, span, dst)
-        result[..., group.channels] = dst
+            quadrature = group.quadrature.astype(np.float64)
+            lut_vector(block, group.channels, quadrature, lut, group.edit_range.span, result)
     return selection.put(edit, result)
 
 

@@ -172,8 +172,12 @@ class Selection:
         from ._kernels import lerp
 
         result = np.asarray(result, dtype=np.float32)
-        if self.everything and self.mask is None:
-            return result if result is not edit else result.copy()
+        if self.everything:
+            if self.mask is None:
+                return result if result is not edit else result.copy()
+            out = np.empty_like(edit)
+            lerp(edit, result, self.mask, out)
+            return out
         out = edit.copy()
         if self.mask is None:
             out[..., self._slice] = result

@@ -1,0 +1,108 @@
+"""Op speed as ratios to the baseline a user has today, measured in one run.
+
+    python benchmarks/ops.py [--repeat N] [--size 2048]
+
+Data: the edit channels of a real PBR set (the shared chessboard, 8 edit
+channels, widened to 10 with two copies of roughness/metallic the way an
+emissive or AO map would) at 2K, and its first 3 channels. Baselines:
+``cv2.GaussianBlur`` on the same channels for blur; ``np.copyto`` of the same
+bytes (the bandwidth limit) for scale, curves and compositing.
+Bilateral and cloning have their own scripts: ``benchmarks/bilateral.py``
+and ``benchmarks/clone.py``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from matshop.ops.blur import gaussian_blur
+from matshop.ops.composite import composite
+from matshop.ops.curves import curves
+from matshop.ops.scale import scale
+
+CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
+
+
+def best_time(fn: Callable[[], object], repeat: int) -> float:
+    fn()
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def edit_channels(size: int) -> tuple[np.ndarray, str]:
+    """(size, size, 10) float32 edit values of a real set when available."""
+    if CHESSBOARD.is_dir():
+        from matshop.io.material_io import load_material
+
+        material, _ = load_material(CHESSBOARD)
+        edit = material.to_edit().data
+        what = f"chessboard edit channels ({', '.join(material.schema.names)})"
+    else:
+        edit = np.random.default_rng(0).random((2048, 2048, 8), dtype=np.float32)
+        what = "synthetic (chessboard absent)"
+    edit = np.concatenate([edit, edit[..., 3:5]], axis=2)[:size, :size]
+    return np.ascontiguousarray(edit), what
+
+
+def line(label: str, ours: float, base: float, base_name: str) -> None:
+    print(
+        f"{label:40s} ours {ours * 1e3:8.1f} ms  {base_name} {base * 1e3:8.1f} ms"
+        f"  ratio {ours / base:5.2f}"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--size", type=int, default=2048)
+    args = parser.parse_args()
+    full, what = edit_channels(args.size)
+    print(f"data: {what}, {full.shape[1]}x{full.shape[0]}")
+    rng = np.random.default_rng(1)
+    for channels in (full.shape[2], 3):
+        edit = np.ascontiguousarray(full[..., :channels])
+        other = np.ascontiguousarray(edit[::-1])
+        mask = rng.random(edit.shape[:2], dtype=np.float32)
+        dst = np.empty_like(edit)
+        copy = best_time(lambda e=edit, d=dst: np.copyto(d, e), args.repeat)
+        n = f"{channels} ch"
+        for sigma in (2.0, 8.0):
+            ours = best_time(lambda e=edit, s=sigma: gaussian_blur(e, sigma_px=s), args.repeat)
+            base = best_time(lambda e=edit, s=sigma: cv2.GaussianBlur(e, (0, 0), s), args.repeat)
+            line(f"blur sigma {sigma:g}, {n} (wrap)", ours, base, "cv2.GaussianBlur")
+        line(
+            f"scale, {n}", best_time(lambda e=edit: scale(e, factor=0.7), args.repeat), copy, "copy"
+        )
+        line(
+            f"scale with mask, {n}",
+            best_time(lambda e=edit, m=mask: scale(e, factor=0.7, mask=m), args.repeat),
+            copy,
+            "copy",
+        )
+        points = [(0, 0), (0.3, 0.5), (1, 1)]
+        line(
+            f"curves, {n}",
+            best_time(lambda e=edit, p=points: curves(e, points=p), args.repeat),
+            copy,
+            "copy",
+        )
+        line(
+            f"composite with mask, {n}",
+            best_time(lambda e=edit, o=other, m=mask: composite(e, o, mask=m), args.repeat),
+            copy,
+            "copy",
+        )
+
+
+if __name__ == "__main__":
+    main()
