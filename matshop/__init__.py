@@ -5,7 +5,13 @@ linear image operations respect what the parameter means, and converted back
 on export.
 """
 
+import os as _os
+
 __version__ = "0.1.0"
+
+# numba's OpenMP workers otherwise spin after every parallel loop, taking
+# cores from the next step (and from the UI thread) on a busy machine
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 
 def open(path, **load_options):  # noqa: A001 - matshop.open is the API's front door

@@ -182,7 +182,8 @@ def cmd_apply(args: argparse.Namespace) -> int:
     with progress_bar("writing") as report:
         written = m.save(args.output, overwrite=args.force, progress=report)
     for name, bound, params in m.history:
-        settings = " ".join(f"{k}={v}" for k, v in bound.items())
+        spec = get_op(name)
+        settings = " ".join(f"{k}={spec.param(k).format(v)}" for k, v in bound.items())
         print(f"applied {name} {settings} to {', '.join(params)}")
     for path in written:
         print(f"wrote {path}")

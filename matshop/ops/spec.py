@@ -13,7 +13,10 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal
+
+import numpy as np
 
 from ..errors import MatshopError
 
@@ -63,7 +66,9 @@ class ParamSpec:
                 return (dx, dy)
         except ValueError:
             raise OpError(f"{op}: {self.name}={text!r} is not a valid {self.kind}") from None
-        return text  # choice, path, region: validated later
+        if self.kind == "region":
+            return _parse_region(text, op, self.name)
+        return text  # choice, path: validated later
 
     def format(self, value: Any) -> str:
         """The command-line spelling of ``value`` (what :meth:`parse` reads back)."""
@@ -71,6 +76,10 @@ class ParamSpec:
             return ";".join(f"{x:g},{y:g}" for x, y in value)
         if self.kind == "offset":
             return f"{value[0]},{value[1]}"
+        if self.kind == "region" and isinstance(value, np.ndarray):
+            if value.dtype == bool:
+                return f"<mask of {int(value.sum())} texels>"
+            return ";".join(f"{x:g},{y:g}" for x, y in value)
         if isinstance(value, float):
             return f"{value:g}"
         return str(value).lower() if isinstance(value, bool) else str(value)
@@ -99,6 +108,8 @@ class ParamSpec:
                 raise OpError(f"{where}={value!r}: choose one of {', '.join(self.choices)}")
         elif self.kind == "points":
             value = _validate_points(value, where, self.hard_range)
+        elif self.kind == "region":
+            value = _validate_region(value, where)
         elif self.kind == "offset":
             try:
                 dx, dy = value
@@ -106,6 +117,36 @@ class ParamSpec:
             except (TypeError, ValueError):
                 raise OpError(f"{where} must be two whole numbers dx,dy, got {value!r}") from None
         return value
+
+
+def _parse_region(text: str, op: str, name: str) -> Any:
+    """``x,y;x,y;...`` is a polygon in pixels; anything else names a mask image."""
+    if ";" in text and not Path(text).exists():
+        try:
+            return np.array(
+                [[float(v) for v in pair.split(",")] for pair in text.split(";")], dtype=np.float64
+            )
+        except ValueError:
+            raise OpError(f"{op}: {name}={text!r} is neither x,y;x,y;... nor an image") from None
+    return Path(text)
+
+
+def _validate_region(value: Any, where: str) -> Any:
+    if isinstance(value, str | Path):
+        from ..io.images import read_image  # only when a mask file is given
+
+        pixels, _ = read_image(value)
+        return pixels[..., 0] > 0.5
+    if hasattr(value, "clone"):  # precomputed CloneCoordinates
+        return value
+    array = np.asarray(value)
+    if array.ndim == 2 and array.shape[1] == 2 and array.dtype != bool and len(array) >= 3:
+        if not np.isfinite(array).all():
+            raise OpError(f"{where}: polygon vertices must be finite")
+        return array.astype(np.float64)
+    if array.ndim == 2 and array.shape[1] != 2 or array.dtype == bool:
+        return array.astype(bool) if array.dtype == bool else array > 0.5
+    raise OpError(f"{where} must be a mask image or a polygon x,y;x,y;x,y (3+ vertices)")
 
 
 def _validate_points(
