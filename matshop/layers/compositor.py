@@ -1,0 +1,321 @@
+"""Flatten the layer stack per tile, with caches that an edit invalidates locally.
+
+The composite after the first ``k`` layers over a rectangle is computed
+bottom-up in edit space. Three kinds of cache keep this cheap:
+
+- the *top* cache: the flattened document in edit space, per tile;
+- the *physical* cache: the same tiles after ``from_edit``;
+- a *checkpoint* per visible neighbourhood filter layer (blur), holding the
+  composite just after it, per tile, so work above a filter never re-runs it.
+
+A filter with reach ``m`` computes a tile from the composite below over the
+tile grown by ``m`` texels (wrapped or clamped at the image edge exactly as
+the op would on the whole image), so tiles equal the whole-image result bit
+for bit. A filter whose reach is unknown or global computes the whole image
+once into its checkpoint.
+
+Invalidation is the mirror image: a change over some tiles of the input of a
+layer changes the same tiles of its output, or those tiles dilated by the
+reach of a filter (all tiles for a global one); walking up the stack gives
+exactly the tiles of every cache to drop, and the dirty tiles to report.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .blend import blend, get_blend_mode, mean_of, weighted_mean
+from .cache import TileCache
+from .geometry import Rect, TileSet
+from .layer import FillLayer, FilterLayer, Layer, PaintLayer
+
+if TYPE_CHECKING:
+    from .document import Document
+
+#: Texels per rectangle computed in one go (bounds temporaries to ~100s of MB
+#: for wide schemas while keeping the per-call overhead negligible).
+BAND_TEXELS = 1 << 20
+
+
+def channel_selector(layer: Layer, schema) -> slice | np.ndarray | None:
+    """Which edit channels a layer writes: None (all), a slice, or an index array."""
+    if layer.parameters is None:
+        return None
+    index = schema.channel_indices(layer.parameters)
+    if index.size and index[-1] - index[0] + 1 == index.size:
+        return slice(int(index[0]), int(index[-1]) + 1)
+    return index
+
+
+def blend_into(
+    layer: Layer,
+    schema,
+    below: np.ndarray,
+    values: np.ndarray,
+    alpha: np.ndarray,
+    mean: np.ndarray | None,
+) -> None:
+    """Blend ``values`` onto ``below`` in place, only in the layer's channels."""
+    mode = get_blend_mode(layer.blend)
+    select = channel_selector(layer, schema)
+    if select is None:
+        blend(mode, below, values, alpha, mean=mean, out=below)
+    elif isinstance(select, slice):
+        view = below[..., select]
+        sub_mean = None if mean is None else mean[select]
+        blend(mode, view, values[..., select], alpha, mean=sub_mean, out=view)
+    else:
+        block = below[..., select]
+        sub_mean = None if mean is None else mean[select]
+        below[..., select] = blend(mode, block, values[..., select], alpha, mean=sub_mean)
+
+
+def filter_by_tile(
+    layer: FilterLayer,
+    schema,
+    layout,
+    rect: Rect,
+    below: np.ndarray,
+    reach: int,
+) -> np.ndarray:
+    """A neighbourhood filter's values over ``rect`` (whole tiles), one tile at a time.
+
+    ``below`` is the composite over ``rect`` grown by ``reach`` (continued past
+    the image edge as the op's border says). Each tile is filtered from its
+    own window, the tile grown by ``reach``: OpenCV's rounding depends on an
+    image's size and on where a texel sits in it (SIMD tails, IPP paths for
+    one channel), so a fixed window per tile is what makes the result the
+    same whichever tiles happen to be recomputed together. It differs from
+    running the op on the whole image by float32 rounding only.
+    """
+    grown = rect.expand(reach)
+    out = np.empty((rect.height, rect.width, below.shape[2]), dtype=np.float32)
+    for key in layout.keys_in(rect):
+        tile = layout.tile_rect(key)
+        result = layer.run(below[tile.expand(reach).relative_to(grown)], schema, window=True)
+        out[tile.relative_to(rect)] = result[
+            reach : reach + tile.height, reach : reach + tile.width
+        ]
+    return out
+
+
+def is_barrier(layer: Layer, doc: Document) -> bool:
+    """A visible filter reading a neighbourhood: it gets a checkpoint cache."""
+    return isinstance(layer, FilterLayer) and layer.visible and layer.reach(doc.layout) != 0
+
+
+class Compositor:
+    """Caches and computes the flattened document; knows what an edit invalidates."""
+
+    def __init__(self, doc: Document) -> None:
+        self.doc = doc
+        self.top = TileCache(doc.layout, doc.schema.edit_width)
+        phys_width = sum(p.phys_channels for p in doc.schema.parameters)
+        self.physical = TileCache(doc.layout, phys_width)
+        self.checkpoints: dict[int, TileCache] = {}
+
+    # -- invalidation ------------------------------------------------------
+
+    def through(self, layer: Layer, tiles: TileSet) -> TileSet:
+        """Tiles of a layer's output that change when ``tiles`` of its input change."""
+        if not (isinstance(layer, FilterLayer) and layer.visible):
+            return tiles
+        reach = layer.reach(self.doc.layout)
+        if reach is None:
+            return self.doc.layout.all_tiles() if tiles.any() else tiles
+        return self.doc.layout.dilate(tiles, reach, layer.border)
+
+    def output_changed(self, index: int, tiles: TileSet) -> TileSet:
+        """The output of ``layers[index]`` itself changed over ``tiles``; returns dirty tiles."""
+        layer = self.doc.layers[index]
+        if layer.id in self.checkpoints:
+            self.checkpoints[layer.id].invalidate(tiles)
+        return self.input_changed(index + 1, tiles)
+
+    def input_changed(self, start: int, tiles: TileSet) -> TileSet:
+        """The composite below ``layers[start]`` changed over ``tiles``; returns dirty tiles."""
+        for layer in self.doc.layers[start:]:
+            if not tiles.any():
+                break
+            tiles = self.through(layer, tiles)
+            if layer.id in self.checkpoints:
+                self.checkpoints[layer.id].invalidate(tiles)
+        self.top.invalidate(tiles)
+        self.physical.invalidate(tiles)
+        return tiles
+
+    def drop_checkpoint(self, layer_id: int) -> None:
+        self.checkpoints.pop(layer_id, None)
+
+    def invalidate_all(self) -> None:
+        for cache in (self.top, self.physical, *self.checkpoints.values()):
+            cache.invalidate(self.doc.layout.all_tiles())
+
+    # -- computing ---------------------------------------------------------
+
+    def _cache_at(self, count: int) -> TileCache | None:
+        """The cache holding the composite of the first ``count`` layers, if any."""
+        layers = self.doc.layers
+        if count == 0:
+            return None
+        if count == len(layers):
+            return self.top
+        layer = layers[count - 1]
+        if is_barrier(layer, self.doc):
+            return self.checkpoints.setdefault(
+                layer.id, TileCache(self.doc.layout, self.top.channels)
+            )
+        return None
+
+    def composite(self, count: int, rect: Rect) -> np.ndarray:
+        """A new array: the composite of the first ``count`` layers over ``rect`` (in the image)."""
+        cache = self._cache_at(count)
+        if cache is None:
+            return self._compute(count, rect)
+        self._fill(cache, count, rect)
+        return cache.view(rect).copy()
+
+    def _fill(self, cache: TileCache, count: int, rect: Rect) -> None:
+        missing = cache.missing(rect)
+        if not missing.any():
+            return
+        layout = self.doc.layout
+        layer = self.doc.layers[count - 1]
+        if isinstance(layer, FilterLayer) and layer.visible and layer.reach(layout) is None:
+            # a global filter costs the whole image whatever is asked: do it once
+            cache.store(layout.bounds, self._compute(count, layout.bounds))
+            return
+        for part in layout.rects_of(missing, BAND_TEXELS):
+            cache.store(part, self._compute(count, part))
+
+    def _compute(self, count: int, rect: Rect) -> np.ndarray:
+        layers = self.doc.layers
+        if count == 0:
+            return self.background(rect)
+        if is_barrier(layers[count - 1], self.doc):
+            return self._filter(count - 1, rect)
+        start = count - 1
+        while start > 0 and self._cache_at(start) is None:
+            start -= 1
+        block = self.background(rect) if start == 0 else self.composite(start, rect)
+        for layer in layers[start:count]:
+            self._apply(layer, block, rect)
+        return block
+
+    def background(self, rect: Rect) -> np.ndarray:
+        return np.tile(self.doc.background, (rect.height, rect.width, 1))
+
+    def _apply(self, layer: Layer, block: np.ndarray, rect: Rect) -> None:
+        """Blend a layer without neighbourhood onto ``block`` (covering ``rect``) in place."""
+        if not layer.visible:
+            return
+        schema = self.doc.schema
+        uses_mean = get_blend_mode(layer.blend).uses_mean
+        mean = layer.mean() if uses_mean and not isinstance(layer, FilterLayer) else None
+        if isinstance(layer, PaintLayer):
+            assert layer.pixels is not None
+            keys = layer.pixels.keys_in(rect)
+            if not keys:
+                return  # coverage 0: every mode leaves the composite as it is
+            for part in self.doc.layout.rects_of_keys(keys):
+                part = part.intersect(rect)
+                values, coverage = layer.values(part)
+                target = block[part.relative_to(rect)]
+                blend_into(layer, schema, target, values, layer.alpha(part, coverage), mean)
+        elif isinstance(layer, FillLayer):
+            blend_into(layer, schema, block, layer.content(rect), layer.alpha(rect), mean)
+        elif isinstance(layer, FilterLayer):  # pointwise: the block is all it reads
+            filtered = layer.run(block, schema)
+            blend_into(layer, schema, block, filtered, layer.alpha(rect), mean)
+        else:  # pragma: no cover - new kinds must be taught here
+            raise TypeError(f"cannot composite a {type(layer).__name__}")
+
+    def _filter(self, index: int, rect: Rect) -> np.ndarray:
+        """Composite after the neighbourhood filter ``layers[index]`` over ``rect``."""
+        layer = self.doc.layers[index]
+        assert isinstance(layer, FilterLayer)
+        layout, schema = self.doc.layout, self.doc.schema
+        reach = layer.reach(layout)
+        if reach is None:
+            below = self.composite(index, layout.bounds)
+            filtered = layer.run(below, schema)
+            mean = None
+            if get_blend_mode(layer.blend).uses_mean:
+                mean = mean_of(*weighted_mean(filtered))
+            blend_into(layer, schema, below, filtered, layer.alpha(layout.bounds), mean)
+            return below if rect == layout.bounds else below[rect.slices].copy()
+        grown = rect.expand(reach)
+        below = self.read(index, grown, layer.border)
+        filtered = filter_by_tile(layer, schema, layout, rect, below, reach)
+        block = np.ascontiguousarray(below[rect.relative_to(grown)])
+        blend_into(layer, schema, block, filtered, layer.alpha(rect), None)
+        return block
+
+    def read(self, count: int, rect: Rect, border: str) -> np.ndarray:
+        """Composite of the first ``count`` layers over any rectangle, continued past the
+        image edge periodically (``"wrap"``) or by repeating the edge texels (``"clamp"``)."""
+        bounds = self.doc.layout.bounds
+        if bounds.contains(rect):
+            return self.composite(count, rect)
+        if border == "clamp":
+            inner = rect.intersect(bounds)
+            block = self.composite(count, inner)
+            pad = (
+                (inner.y0 - rect.y0, rect.y1 - inner.y1),
+                (inner.x0 - rect.x0, rect.x1 - inner.x1),
+                (0, 0),
+            )
+            return np.pad(block, pad, mode="edge")
+        out = np.empty((rect.height, rect.width, self.top.channels), dtype=np.float32)
+        for dy, sy, height in _periodic(rect.y0, rect.y1, bounds.y1):
+            for dx, sx, width in _periodic(rect.x0, rect.x1, bounds.x1):
+                part = Rect(sx, sy, sx + width, sy + height)
+                out[dy : dy + height, dx : dx + width] = self.composite(count, part)
+        return out
+
+    # -- the outputs -------------------------------------------------------
+
+    def edit(self, rect: Rect) -> np.ndarray:
+        """The flattened edit values over ``rect`` (a view of the top cache, up to date)."""
+        if not self.doc.layers:
+            return self.background(rect)
+        self._fill(self.top, len(self.doc.layers), self.doc.layout.aligned(rect))
+        return self.top.view(rect)
+
+    def physical_view(self, rect: Rect) -> np.ndarray:
+        """Physical values (parameters side by side) over ``rect``, up to date."""
+        layout = self.doc.layout
+        missing = self.physical.missing(rect)
+        for part in layout.rects_of(missing, BAND_TEXELS):
+            edit = self.edit(part)
+            block = np.empty((part.height, part.width, self.physical.channels), np.float32)
+            start = 0
+            for param in self.doc.schema.parameters:
+                width = param.phys_channels
+                edit_part = edit[..., self.doc.schema.edit_slices[param.name]]
+                into = getattr(param.space, "from_edit_into", None)
+                if into is not None:  # fused kernels write straight into the block
+                    into(edit_part, block[..., start : start + width])
+                else:
+                    block[..., start : start + width] = param.space.from_edit(edit_part)
+                start += width
+            self.physical.store(part, block)
+        return self.physical.view(rect)
+
+    def nbytes(self) -> int:
+        caches = (self.top, self.physical, *self.checkpoints.values())
+        return sum(cache.nbytes for cache in caches)
+
+
+def _periodic(lo: int, hi: int, size: int) -> list[tuple[int, int, int]]:
+    """Cut ``[lo, hi)`` into runs inside one period: (offset in the range, source, length)."""
+    runs = []
+    position = lo
+    while position < hi:
+        source = position % size
+        length = min(hi - position, size - source)
+        runs.append((position - lo, source, length))
+        position += length
+    return runs

@@ -1,0 +1,380 @@
+"""The document: a schema, a size, a layer stack, and its flattened output.
+
+The document is the single place where layer state changes. Each mutation
+method invalidates exactly the cached tiles it can affect (see
+:mod:`matshop.layers.compositor`) and emits notifications; views subscribe to
+``doc.events`` and redraw the dirty tiles. The mutation methods record
+nothing: undo lives in :mod:`matshop.layers.edits` (edit objects that call
+them) and :mod:`matshop.layers.history`. Widgets and the CLI build edits;
+they never touch layers or arrays directly.
+
+Flattening is lazy and per tile: :meth:`Document.flatten_edit`,
+:meth:`Document.flatten_physical` and :meth:`Document.update` recompute only
+invalid tiles and convert through ``from_edit`` once per tile.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterator
+from typing import Any, Literal
+
+import numpy as np
+
+from ..material import EditMaterial, Material, Schema
+from .compositor import Compositor
+from .events import DirtyRegion, DocumentEvents
+from .filters import bind_filter
+from .geometry import Rect, TileKey, TileLayout, TileSet
+from .layer import FillLayer, FilterLayer, Layer, PaintLayer
+from .tiles import TileGrid, freeze
+
+#: Which tiles of a layer an edit addresses: its painted values or its mask.
+Target = Literal["pixels", "mask"]
+
+
+class Document:
+    """A layered material in edit space.
+
+    Parameters
+    ----------
+    schema : Schema
+        The material's parameters and editing spaces.
+    height, width : int
+        Size in texels.
+    tile_size : int
+        Edge of the square storage and cache tiles (64 measured best; see
+        ``benchmarks/document.py``).
+    background : (C,) array_like, optional
+        Edit values under the bottom layer (zeros by default).
+    name : str
+        Material name used for flattened outputs.
+    """
+
+    def __init__(
+        self,
+        schema: Schema,
+        height: int,
+        width: int,
+        *,
+        tile_size: int = 64,
+        background: np.ndarray | None = None,
+        name: str = "untitled",
+    ) -> None:
+        self.schema = schema
+        self.name = name
+        self.layout = TileLayout(height, width, tile_size)
+        fill = np.zeros(schema.edit_width) if background is None else background
+        self.background = freeze(
+            np.array(np.broadcast_to(np.asarray(fill, np.float32), (schema.edit_width,)))
+        )
+        self.layers: list[Layer] = []
+        self.events = DocumentEvents()
+        self._ids = itertools.count(1)
+        self._compositor = Compositor(self)
+
+    @classmethod
+    def from_material(
+        cls,
+        material: Material | EditMaterial,
+        *,
+        tile_size: int = 64,
+        layer_name: str = "Base",
+    ) -> Document:
+        """A document whose bottom layer is a fill layer holding ``material``."""
+        edit = material.to_edit() if isinstance(material, Material) else material
+        height, width = edit.size
+        doc = cls(edit.schema, height, width, tile_size=tile_size, name=edit.name)
+        doc.insert_layer(doc.new_fill_layer(layer_name, source=edit.data))
+        return doc
+
+    # -- shape -------------------------------------------------------------
+
+    @property
+    def height(self) -> int:
+        return self.layout.height
+
+    @property
+    def width(self) -> int:
+        return self.layout.width
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(height, width) in texels, like :attr:`Material.size`."""
+        return self.layout.height, self.layout.width
+
+    @property
+    def channels(self) -> int:
+        """Edit channels per texel."""
+        return self.schema.edit_width
+
+    # -- making layers (not yet in the stack: add them with an AddLayer edit) --
+
+    def _props(self, layer: Layer, props: dict[str, Any]) -> Layer:
+        for key, value in props.items():
+            layer.put(key, layer.validate(key, value, self.schema))
+        return layer
+
+    def new_paint_layer(self, name: str | None = None, **props: Any) -> PaintLayer:
+        """An empty paint layer (costs a dict and a fill vector until painted)."""
+        layer_id = next(self._ids)
+        pixels = TileGrid(self.layout, self.channels + 1, 0.0)
+        layer = PaintLayer(layer_id, name or f"Paint {layer_id}", pixels=pixels)
+        return self._props(layer, props)  # type: ignore[return-value]
+
+    def new_fill_layer(
+        self,
+        name: str | None = None,
+        *,
+        value: np.ndarray | None = None,
+        source: np.ndarray | EditMaterial | None = None,
+        **props: Any,
+    ) -> FillLayer:
+        """A fill layer with a constant edit ``value`` or an edit-space ``source`` texture."""
+        if (value is None) == (source is None):
+            raise ValueError("a fill layer needs exactly one of value= or source=")
+        layer_id = next(self._ids)
+        layer = FillLayer(layer_id, name or f"Fill {layer_id}")
+        if value is not None:
+            layer.put("value", layer.validate("value", value, self.schema))
+        else:
+            data = source.data if isinstance(source, EditMaterial) else source
+            if np.shape(data)[:2] != self.size:
+                raise ValueError(f"fill source is {np.shape(data)[:2]}, the document {self.size}")
+            layer.put("source", layer.validate("source", data, self.schema))
+        return self._props(layer, props)  # type: ignore[return-value]
+
+    def new_filter_layer(
+        self,
+        op: str,
+        name: str | None = None,
+        *,
+        op_params: dict[str, Any] | None = None,
+        **props: Any,
+    ) -> FilterLayer:
+        """A filter layer running registry op ``op`` with ``op_params`` (validated)."""
+        spec, bound = bind_filter(op, op_params)
+        layer_id = next(self._ids)
+        layer = FilterLayer(layer_id, name or spec.label, op=op, op_params=bound)
+        return self._props(layer, props)  # type: ignore[return-value]
+
+    def new_mask(self, fill: float = 1.0, array: np.ndarray | None = None) -> TileGrid:
+        """A mask grid: uniform ``fill`` (1 reveals all, 0 hides all), or from a grayscale array."""
+        if array is None:
+            return TileGrid(self.layout, 1, fill)
+        mask = np.clip(np.asarray(array, dtype=np.float32), 0.0, 1.0)
+        return TileGrid.from_array(mask, self.layout, fill)
+
+    # -- looking layers up -------------------------------------------------
+
+    def __len__(self) -> int:
+        return len(self.layers)
+
+    def __iter__(self) -> Iterator[Layer]:
+        return iter(self.layers)
+
+    def index_of(self, layer_id: int) -> int:
+        for index, layer in enumerate(self.layers):
+            if layer.id == layer_id:
+                return index
+        raise KeyError(f"no layer with id {layer_id} in the document")
+
+    def layer(self, layer_id: int) -> Layer:
+        return self.layers[self.index_of(layer_id)]
+
+    def grid(self, layer_id: int, target: Target) -> TileGrid:
+        """The tile grid an edit on ``target`` of a layer addresses."""
+        layer = self.layer(layer_id)
+        if target == "mask":
+            if layer.mask is None:
+                raise ValueError(f"layer {layer.name!r} has no mask")
+            return layer.mask
+        if not isinstance(layer, PaintLayer) or layer.pixels is None:
+            raise ValueError(f"layer {layer.name!r} is a {layer.kind} layer: it has no pixels")
+        return layer.pixels
+
+    # -- mutations (no undo here: edits call these) -------------------------
+
+    def _extent(self, layer: Layer) -> TileSet:
+        """Tiles where a layer can change the composite at all."""
+        if isinstance(layer, PaintLayer) and layer.pixels is not None:
+            return layer.pixels.present()
+        return self.layout.all_tiles()
+
+    def _emit_dirty(self, tiles: TileSet) -> None:
+        if tiles.any():
+            self.events.dirty.emit(DirtyRegion(self.layout, tiles.copy()))
+
+    def insert_layer(self, layer: Layer, index: int | None = None) -> int:
+        """Put ``layer`` at ``index`` (default: on top); returns the index."""
+        if any(other.id == layer.id for other in self.layers):
+            raise ValueError(f"layer id {layer.id} is already in the document")
+        for grid in (getattr(layer, "pixels", None), layer.mask):
+            if grid is not None and grid.layout != self.layout:
+                raise ValueError("the layer was made for a document of another size or tiling")
+        index = len(self.layers) if index is None else index
+        if not 0 <= index <= len(self.layers):
+            raise IndexError(f"layer index {index} outside 0..{len(self.layers)}")
+        self.layers.insert(index, layer)
+        self._compositor.drop_checkpoint(layer.id)
+        tiles = self._extent(layer) if layer.visible else self.layout.no_tiles()
+        dirty = self._compositor.output_changed(index, tiles)
+        self.events.layers.emit("insert", layer.id, index)
+        self._emit_dirty(dirty)
+        return index
+
+    def remove_layer(self, layer_id: int) -> tuple[Layer, int]:
+        """Take a layer out of the stack; returns it and where it was."""
+        index = self.index_of(layer_id)
+        layer = self.layers.pop(index)
+        self._compositor.drop_checkpoint(layer_id)
+        tiles = self._extent(layer) if layer.visible else self.layout.no_tiles()
+        dirty = self._compositor.input_changed(index, tiles)
+        self.events.layers.emit("remove", layer_id, index)
+        self._emit_dirty(dirty)
+        return layer, index
+
+    def move_layer(self, layer_id: int, index: int) -> int:
+        """Move a layer to ``index`` in the stack; returns its old index."""
+        old = self.index_of(layer_id)
+        if not 0 <= index < len(self.layers):
+            raise IndexError(f"layer index {index} outside 0..{len(self.layers) - 1}")
+        if old == index:
+            return old
+        layer = self.layers.pop(old)
+        self.layers.insert(index, layer)
+        # every composite from the lower position up differs where the layer acts
+        tiles = self._extent(layer) if layer.visible else self.layout.no_tiles()
+        dirty = self._compositor.input_changed(min(old, index), tiles)
+        self.events.layers.emit("move", layer_id, index)
+        self._emit_dirty(dirty)
+        return old
+
+    def set_property(self, layer_id: int, name: str, value: Any) -> Any:
+        """Change a layer property (validated); returns the old value."""
+        index = self.index_of(layer_id)
+        layer = self.layers[index]
+        value = layer.validate(name, value, self.schema)
+        old = layer.get(name)
+        was_visible = layer.visible
+        layer.put(name, value)
+        if name != "name":
+            if isinstance(layer, FilterLayer):
+                self._compositor.drop_checkpoint(layer_id)
+            if was_visible or layer.visible:
+                self._emit_dirty(self._compositor.output_changed(index, self._extent(layer)))
+        self.events.layer.emit(layer_id, name)
+        return old
+
+    def set_mask(self, layer_id: int, mask: TileGrid | None) -> TileGrid | None:
+        """Give a layer a mask (a one-channel grid of this document) or remove it."""
+        index = self.index_of(layer_id)
+        layer = self.layers[index]
+        if mask is not None and (mask.channels != 1 or mask.layout != self.layout):
+            raise ValueError("a mask is a one-channel tile grid of this document's layout")
+        old = layer.mask
+        layer.mask = mask
+        if layer.visible:
+            self._emit_dirty(self._compositor.output_changed(index, self._extent(layer)))
+        self.events.layer.emit(layer_id, "mask")
+        return old
+
+    def replace_tiles(
+        self, layer_id: int, target: Target, changes: dict[TileKey, np.ndarray | None]
+    ) -> dict[TileKey, np.ndarray | None]:
+        """Swap tile objects of a layer's pixels or mask; returns the replaced ones."""
+        old = self.grid(layer_id, target).replace(changes)
+        self.tiles_changed(layer_id, target, self.layout.tiles_from_keys(changes))
+        return old
+
+    def tiles_changed(self, layer_id: int, target: Target, tiles: TileSet) -> None:
+        """Tiles of a layer's pixels or mask were changed: invalidate and notify.
+
+        Paint transactions call this after changing their working tiles in place.
+        """
+        index = self.index_of(layer_id)
+        layer = self.layers[index]
+        if target == "pixels" and isinstance(layer, PaintLayer):
+            layer.version += 1  # the cached mean is stale
+        self.events.content.emit(layer_id, target, tiles)
+        if not layer.visible:
+            return
+        if target == "pixels":
+            from .blend import get_blend_mode
+
+            if get_blend_mode(layer.blend).uses_mean:
+                # the layer's mean moved: everything it covers moves with it
+                tiles = tiles | self._extent(layer)
+        elif isinstance(layer, PaintLayer):
+            tiles = tiles & self._extent(layer)  # no coverage, nothing to mask
+        self._emit_dirty(self._compositor.output_changed(index, tiles))
+
+    # -- outputs -----------------------------------------------------------
+
+    def flatten_edit(self, rect: Rect | None = None, *, copy: bool = True) -> np.ndarray:
+        """The flattened edit values over ``rect`` (whole image by default).
+
+        ``copy=False`` returns a read-only view of the cache: no copy, but
+        later edits change what it shows.
+        """
+        rect = self.layout.bounds if rect is None else rect
+        if not self.layout.bounds.contains(rect):
+            raise ValueError(f"{rect} reaches outside the {self.width}x{self.height} document")
+        view = self._compositor.edit(rect)
+        return _out(view, copy)
+
+    def flatten(self, *, copy: bool = True) -> EditMaterial:
+        """The flattened document as an :class:`EditMaterial`."""
+        return EditMaterial(self.name, self.schema, self.flatten_edit(copy=copy))
+
+    def physical(self, rect: Rect | None = None, *, copy: bool = True) -> dict[str, np.ndarray]:
+        """Physical maps (after ``from_edit``) per parameter over ``rect``."""
+        rect = self.layout.bounds if rect is None else rect
+        block = self._compositor.physical_view(rect)
+        maps, start = {}, 0
+        for param in self.schema.parameters:
+            maps[param.name] = _out(block[..., start : start + param.phys_channels], copy)
+            start += param.phys_channels
+        return maps
+
+    def flatten_physical(self, *, copy: bool = True) -> Material:
+        """The flattened document as a physical :class:`Material` (ready to export)."""
+        return Material(self.name, self.schema, self.physical(copy=copy))
+
+    def update(self) -> TileSet:
+        """Bring every cache up to date (edit and physical); returns the tiles recomputed."""
+        stale = ~self._compositor.physical.valid
+        if stale.any():
+            self._compositor.physical_view(self.layout.bounds)
+        return stale
+
+    def invalidate_all(self) -> None:
+        """Forget every cached tile (the next flatten recomputes from scratch)."""
+        self._compositor.invalidate_all()
+        self._emit_dirty(self.layout.all_tiles())
+
+    def memory(self) -> dict[str, int]:
+        """Bytes held: layer payloads (pixels, masks, sources) and caches."""
+        layers = 0
+        seen: set[int] = set()
+        for layer in self.layers:
+            for array in layer.arrays():
+                if id(array) not in seen:
+                    seen.add(id(array))
+                    layers += array.nbytes
+        caches = self._compositor.nbytes()
+        return {"layers": layers, "caches": caches, "total": layers + caches}
+
+    def __repr__(self) -> str:
+        return (
+            f"Document({self.name!r}, {self.width}x{self.height}, {len(self.layers)} layers, "
+            f"{self.schema!r})"
+        )
+
+
+def _out(view: np.ndarray, copy: bool) -> np.ndarray:
+    if copy:
+        return view.copy()
+    view = view.view()
+    view.flags.writeable = False
+    return view

@@ -1,0 +1,343 @@
+"""The layer kinds: paint, fill and filter.
+
+Every layer has a name, visibility, opacity, blend mode, the parameters it
+affects (schema names; None means all) and an optional tiled mask (one
+channel, 1 = show; ``mask_inverted`` flips it). What differs is where its
+edit values ``L`` and coverage come from:
+
+- :class:`PaintLayer`: tiled edit values plus a coverage channel, stored
+  together (``channels + 1`` per texel) in one :class:`TileGrid`; unpainted
+  texels have coverage 0 and cost nothing.
+- :class:`FillLayer`: one constant edit vector, or a whole edit-space
+  texture set (e.g. "rust" over "steel"); coverage 1 everywhere.
+- :class:`FilterLayer`: an op from the registry applied to the composite
+  below (non-destructive blur, curves, levels, scale...); ``L`` is the op's
+  result, coverage 1.
+
+Layers are plain state. They are changed only through the document (which
+invalidates caches and notifies) and, for undo, through edits; nothing here
+knows about caches, history or Qt.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..material import Schema
+from ..ops import get_op
+from .blend import get_blend_mode, mean_of, weighted_mean
+from .filters import bind_filter, filter_reach
+from .geometry import Rect, TileLayout
+from .tiles import TileGrid, freeze
+
+
+@dataclass(eq=False)
+class Layer:
+    """State every layer kind shares."""
+
+    id: int
+    name: str
+    visible: bool = True
+    opacity: float = 1.0
+    blend: str = "normal"
+    #: schema parameter names the layer writes (None: all), in schema order
+    parameters: tuple[str, ...] | None = None
+    #: one-channel tiled mask in [0, 1] (1 shows the layer), or None
+    mask: TileGrid | None = None
+    mask_inverted: bool = False
+
+    kind: ClassVar[str] = "layer"
+    #: properties :meth:`Document.set_property` may change
+    PROPERTIES: ClassVar[tuple[str, ...]] = (
+        "name",
+        "visible",
+        "opacity",
+        "blend",
+        "parameters",
+        "mask_inverted",
+    )
+
+    def validate(self, name: str, value: Any, schema: Schema) -> Any:
+        """Check a new property value; return it normalised (raises ValueError)."""
+        if name not in self.PROPERTIES:
+            raise ValueError(f"{self.kind} layers have no property {name!r}")
+        if name == "name":
+            return str(value)
+        if name in ("visible", "mask_inverted"):
+            if not isinstance(value, bool | np.bool_):
+                raise ValueError(f"{name} must be true or false, got {value!r}")
+            return bool(value)
+        if name == "opacity":
+            opacity = float(value)
+            if not 0.0 <= opacity <= 1.0:
+                raise ValueError(f"opacity must lie in [0, 1], got {opacity:g}")
+            return opacity
+        if name == "blend":
+            return get_blend_mode(value).name
+        if name == "parameters":
+            return _normalise_parameters(value, schema)
+        raise AssertionError(name)  # pragma: no cover - PROPERTIES and branches agree
+
+    def get(self, name: str) -> Any:
+        """A property's current value (what an edit stores to undo)."""
+        return getattr(self, name)
+
+    def put(self, name: str, value: Any) -> None:
+        """Set a validated property value (the document calls this, then invalidates)."""
+        setattr(self, name, value)
+
+    # -- contribution ------------------------------------------------------
+
+    def coverage(self, rect: Rect) -> np.ndarray | None:
+        """Per-texel coverage over ``rect`` (None: 1 everywhere)."""
+        return None
+
+    def alpha(self, rect: Rect, coverage: np.ndarray | None = None) -> np.ndarray:
+        """Weight of the layer per texel: coverage x mask x opacity, float32 in that order.
+
+        One function for the tiled and the whole-image flatten, so both round
+        alike. ``coverage`` saves re-reading it when the caller has it.
+        """
+        weight = self.coverage(rect) if coverage is None else coverage
+        if self.mask is not None:
+            shown = self.mask.read(rect)[..., 0]
+            if self.mask_inverted:
+                shown = np.float32(1.0) - shown
+            weight = shown if weight is None else weight * shown
+        if weight is None:
+            return np.full((rect.height, rect.width), self.opacity, dtype=np.float32)
+        return weight * np.float32(self.opacity)
+
+    def mean(self) -> np.ndarray | None:
+        """The layer's coverage-weighted mean edit vector (for "detail"); None if it has none."""
+        return None
+
+    def arrays(self) -> Iterator[np.ndarray]:
+        """Arrays this layer keeps alive (for history's memory accounting)."""
+        if self.mask is not None:
+            yield from self.mask._tiles.values()
+
+    def describe(self) -> dict[str, Any]:
+        """Properties as plain values (for panels, tests and project files)."""
+        return {
+            "kind": self.kind,
+            "name": self.name,
+            "visible": self.visible,
+            "opacity": self.opacity,
+            "blend": self.blend,
+            "parameters": self.parameters,
+            "mask": self.mask is not None,
+            "mask_inverted": self.mask_inverted,
+        }
+
+
+def _normalise_parameters(value: Any, schema: Schema) -> tuple[str, ...] | None:
+    if value is None:
+        return None
+    names = [value] if isinstance(value, str) else list(value)
+    unknown = [n for n in names if n not in schema]
+    if unknown:
+        raise ValueError(f"no parameter(s) {unknown} in this material (has: {schema.names})")
+    if not names:
+        raise ValueError("a layer must affect at least one parameter (None means all)")
+    chosen = set(names)
+    ordered = tuple(n for n in schema.names if n in chosen)
+    return None if len(ordered) == len(schema.names) else ordered
+
+
+@dataclass(eq=False)
+class PaintLayer(Layer):
+    """Painted edit values with per-texel coverage, in sparse tiles.
+
+    ``pixels`` has ``edit_width + 1`` channels: the edit vector, then coverage
+    (straight, not premultiplied: ``L`` is the painted value itself).
+    """
+
+    pixels: TileGrid | None = None
+    #: bumped on every pixel change (keys the cached mean)
+    version: int = 0
+    _mean: tuple[int, np.ndarray] | None = field(default=None, repr=False)
+
+    kind: ClassVar[str] = "paint"
+
+    @property
+    def channels(self) -> int:
+        assert self.pixels is not None
+        return self.pixels.channels - 1
+
+    def values(self, rect: Rect) -> tuple[np.ndarray, np.ndarray]:
+        """``(values (h, w, C), coverage (h, w))`` over ``rect``, as views of one new block."""
+        assert self.pixels is not None
+        block = self.pixels.read(rect)
+        return block[..., :-1], block[..., -1]
+
+    def coverage(self, rect: Rect) -> np.ndarray | None:
+        assert self.pixels is not None
+        return self.pixels.read(rect)[..., -1]
+
+    def mean(self) -> np.ndarray:
+        assert self.pixels is not None
+        if self._mean is not None and self._mean[0] == self.version:
+            return self._mean[1]
+        total = np.zeros(self.channels, dtype=np.float64)
+        weight = 0.0
+        # sorted keys: the float64 sum does not depend on painting order
+        for key in sorted(self.pixels.keys()):
+            tile = self.pixels.get(key)
+            assert tile is not None
+            part, w = weighted_mean(tile[..., :-1], tile[..., -1])
+            total += part
+            weight += w
+        mean = freeze(mean_of(total, weight))
+        self._mean = (self.version, mean)
+        return mean
+
+    def arrays(self) -> Iterator[np.ndarray]:
+        yield from super().arrays()
+        assert self.pixels is not None
+        yield from self.pixels._tiles.values()
+
+    def describe(self) -> dict[str, Any]:
+        info = super().describe()
+        assert self.pixels is not None
+        info["tiles"] = len(self.pixels)
+        return info
+
+
+@dataclass(eq=False)
+class FillLayer(Layer):
+    """A constant edit vector, or a whole edit-space texture set, over the document."""
+
+    #: (C,) constant edit vector, or None when ``source`` is set
+    value: np.ndarray | None = None
+    #: (H, W, C) read-only edit-space texture, or None
+    source: np.ndarray | None = None
+    _source_mean: np.ndarray | None = field(default=None, repr=False)
+
+    kind: ClassVar[str] = "fill"
+    PROPERTIES: ClassVar[tuple[str, ...]] = (*Layer.PROPERTIES, "value", "source")
+
+    def validate(self, name: str, value: Any, schema: Schema) -> Any:
+        if name == "value":
+            vector = np.array(value, dtype=np.float32).reshape(-1)
+            if vector.shape != (schema.edit_width,):
+                raise ValueError(
+                    f"a fill value needs {schema.edit_width} edit channels, got {vector.shape}"
+                )
+            return freeze(vector)
+        if name == "source":
+            if value is None:
+                if self.value is None:
+                    raise ValueError("a fill layer without a value needs its source")
+                return None
+            array = np.asarray(value)
+            if array.ndim != 3 or array.shape[2] != schema.edit_width:
+                raise ValueError(
+                    f"a fill source must be (H, W, {schema.edit_width}), got {array.shape}"
+                )
+            if array.dtype != np.float32:
+                raise ValueError(f"a fill source must be float32 edit values, got {array.dtype}")
+            # the layer must own an immutable copy: undo keeps it by reference
+            return freeze(array.copy()) if array.flags.writeable else array
+        return super().validate(name, value, schema)
+
+    def put(self, name: str, value: Any) -> None:
+        super().put(name, value)
+        if name == "source":
+            self._source_mean = None
+
+    def content(self, rect: Rect) -> np.ndarray:
+        """Edit values over ``rect`` (a read-only view or broadcast; do not write)."""
+        if self.source is not None:
+            return self.source[rect.slices]
+        assert self.value is not None
+        return np.broadcast_to(self.value, (rect.height, rect.width, self.value.shape[0]))
+
+    def mean(self) -> np.ndarray:
+        if self.source is None:
+            assert self.value is not None
+            return self.value
+        if self._source_mean is None:
+            self._source_mean = freeze(mean_of(*weighted_mean(self.source)))
+        return self._source_mean
+
+    def arrays(self) -> Iterator[np.ndarray]:
+        yield from super().arrays()
+        if self.source is not None:
+            yield self.source
+
+    def describe(self) -> dict[str, Any]:
+        info = super().describe()
+        info["value"] = None if self.value is None else self.value.tolist()
+        info["source"] = None if self.source is None else tuple(self.source.shape)
+        return info
+
+
+@dataclass(eq=False)
+class FilterLayer(Layer):
+    """A registry op applied non-destructively to the composite below."""
+
+    op: str = "scale"
+    op_params: dict[str, Any] = field(default_factory=dict)
+
+    kind: ClassVar[str] = "filter"
+    PROPERTIES: ClassVar[tuple[str, ...]] = (*Layer.PROPERTIES, "op_params", "filter")
+
+    def validate(self, name: str, value: Any, schema: Schema) -> Any:
+        if name == "op_params":
+            return bind_filter(self.op, value)[1]
+        if name == "filter":  # (op, params) together: switching ops rebinds
+            op, params = value
+            return (op, bind_filter(op, params)[1])
+        return super().validate(name, value, schema)
+
+    def get(self, name: str) -> Any:
+        if name == "filter":
+            return (self.op, self.op_params)
+        return super().get(name)
+
+    def put(self, name: str, value: Any) -> None:
+        if name == "filter":
+            self.op, self.op_params = value
+        else:
+            super().put(name, value)
+
+    @property
+    def border(self) -> str:
+        """How the op treats the image edge (``wrap`` unless it says otherwise)."""
+        return str(self.op_params.get("border", "wrap"))
+
+    def reach(self, layout: TileLayout) -> int | None:
+        """Texels of the composite below one output texel depends on; None: all of them.
+
+        "detail" needs the mean of the filtered image, and a reach that wraps
+        around the whole image is no cheaper than the image, so both are global.
+        """
+        if get_blend_mode(self.blend).uses_mean:
+            return None
+        reach = filter_reach(self.op, self.op_params)
+        if reach is not None and 2 * reach >= min(layout.height, layout.width):
+            return None
+        return reach
+
+    def run(self, below: np.ndarray, schema: Schema, *, window: bool = False) -> np.ndarray:
+        """The op on an ``(h, w, C)`` block of the composite below (a new array).
+
+        ``window=True``: the block carries its own margin of context and only
+        its interior is kept, so the op's edge handling is irrelevant and the
+        cheapest one is used (a wrapped blur re-blurs its seams otherwise).
+        """
+        values = self.op_params
+        if window and "border" in values:
+            values = {**values, "border": "clamp"}
+        return get_op(self.op).function(below, schema=schema, params=self.parameters, **values)
+
+    def describe(self) -> dict[str, Any]:
+        info = super().describe()
+        info["op"] = self.op
+        info["op_params"] = dict(self.op_params)
+        return info
