@@ -195,8 +195,9 @@ class Material:
         bands = _bands(height, width, self.schema.edit_width)
         for done, (r0, r1) in enumerate(bands, 1):
             for param in self.schema.parameters:
-                edit[r0:r1, :, self.schema.edit_slices[param.name]] = param.space.to_edit(
-                    self.maps[param.name][r0:r1]
+                param.space.to_edit_into(
+                    self.maps[param.name][r0:r1],
+                    edit[r0:r1, :, self.schema.edit_slices[param.name]],
                 )
             if progress:
                 progress(done, len(bands))
@@ -236,8 +237,9 @@ class EditMaterial:
         bands = _bands(height, width, max(p.phys_channels for p in self.schema.parameters))
         for done, (r0, r1) in enumerate(bands, 1):
             for param in self.schema.parameters:
-                maps[param.name][r0:r1] = param.space.from_edit(
-                    self.data[r0:r1, :, self.schema.edit_slices[param.name]]
+                param.space.from_edit_into(
+                    self.data[r0:r1, :, self.schema.edit_slices[param.name]],
+                    maps[param.name][r0:r1],
                 )
             if progress:
                 progress(done, len(bands))

@@ -12,7 +12,7 @@ from functools import cache
 
 from .spec import OpError, OpSpec, ParamSpec
 
-_OP_MODULES = ("scale", "curves", "blur", "composite", "clone")
+_OP_MODULES = ("scale", "curves", "blur", "bilateral_ops", "composite", "clone")
 
 __all__ = ["OpError", "OpSpec", "ParamSpec", "all_ops", "get_op"]
 

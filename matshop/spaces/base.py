@@ -67,8 +67,68 @@ class Space(ABC):
         Out-of-range edit values are clamped here, never earlier.
         """
 
+    def to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``to_edit(phys)`` written into ``out`` (..., edit_channels) float32; returns ``out``.
+
+        ``out`` may be a strided view, e.g. this parameter's channels of a
+        material's edit array, and must not overlap ``phys``. This default
+        converts, then copies; spaces with a fused kernel override it to
+        write in place without temporaries.
+        """
+        edit = self.to_edit(phys)
+        check_out(out, edit.shape[:-1], self.edit_channels, self.name)
+        out[...] = edit
+        return out
+
+    def from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``from_edit(edit)`` written into ``out`` (..., phys_channels) float32; returns ``out``.
+
+        Same rules as :meth:`to_edit_into`.
+        """
+        phys = self.from_edit(edit)
+        check_out(out, phys.shape[:-1], self.phys_channels, self.name)
+        out[...] = phys
+        return out
+
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.name}: {self.phys_channels}->{self.edit_channels}>"
+
+
+class FusedSpace(Space):
+    """A space whose conversions write straight into an output array (a fused kernel).
+
+    Subclasses implement :meth:`_to_edit_into` and :meth:`_from_edit_into`,
+    which receive float32 input with the right channel count and a checked
+    ``out``; ``to_edit`` / ``from_edit`` allocate that ``out``.
+    """
+
+    def to_edit(self, phys: np.ndarray) -> np.ndarray:
+        phys = as_channels(phys, self.phys_channels, self.name)
+        out = np.empty((*phys.shape[:-1], self.edit_channels), dtype=np.float32)
+        return self._to_edit_into(phys, out)
+
+    def from_edit(self, edit: np.ndarray) -> np.ndarray:
+        edit = as_channels(edit, self.edit_channels, self.name)
+        out = np.empty((*edit.shape[:-1], self.phys_channels), dtype=np.float32)
+        return self._from_edit_into(edit, out)
+
+    def to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        phys = as_channels(phys, self.phys_channels, self.name)
+        check_out(out, phys.shape[:-1], self.edit_channels, self.name)
+        return self._to_edit_into(phys, out)
+
+    def from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
+        edit = as_channels(edit, self.edit_channels, self.name)
+        check_out(out, edit.shape[:-1], self.phys_channels, self.name)
+        return self._from_edit_into(edit, out)
+
+    @abstractmethod
+    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """Float32 ``phys`` (..., phys_channels) -> ``out`` (checked); return ``out``."""
+
+    @abstractmethod
+    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """Float32 ``edit`` (..., edit_channels) -> ``out`` (checked); return ``out``."""
 
 
 def as_channels(array: np.ndarray, channels: int, what: str) -> np.ndarray:
@@ -79,3 +139,14 @@ def as_channels(array: np.ndarray, channels: int, what: str) -> np.ndarray:
             f"{what}: expected {channels} channel(s) on the last axis, got shape {arr.shape}"
         )
     return arr.astype(np.float32, copy=False)
+
+
+def check_out(out: np.ndarray, lead: tuple[int, ...], channels: int, what: str) -> None:
+    """Check that ``out`` is a writeable float32 array of shape ``lead + (channels,)``."""
+    if not isinstance(out, np.ndarray) or out.dtype != np.float32:
+        got = getattr(out, "dtype", type(out).__name__)
+        raise TypeError(f"{what}: out must be a float32 ndarray, got {got}")
+    if out.shape != (*lead, channels):
+        raise ValueError(f"{what}: out must have shape {(*lead, channels)}, got {out.shape}")
+    if not out.flags.writeable:
+        raise ValueError(f"{what}: out is read-only")

@@ -18,9 +18,12 @@ Edit representation (MATH.md, "Local frames")
     ``w * q~`` is exactly ``slerp(identity, q, w)``.
 
 Quaternions in this module are scalar-first ``(w, x, y, z)``, shape ``(..., 4)``.
-Everything is computed in float32 with formulas that stay accurate near the
+The numpy helpers compute in float32 with formulas that stay accurate near the
 identity (``atan2`` instead of ``acos``, a series for ``sin(x)/x``) and near a
-half turn (Shepperd's method picks the best-conditioned component).
+half turn (Shepperd's method picks the best-conditioned component). The two
+spaces run the same formulas as fused numba kernels (``_kernels.py``): one
+pass per direction, float64 inside, writing straight into strided outputs;
+``tests/test_kernels.py`` holds them to the numpy helpers.
 
 Height maps
     :func:`height_to_normal` treats the height as a displacement measured in
@@ -36,7 +39,8 @@ from typing import Literal
 
 import numpy as np
 
-from .base import EditRange, Space, as_channels
+from ._kernels import FRAME_FROM_EDIT, FRAME_TO_EDIT, NORMAL_FROM_EDIT, NORMAL_TO_EDIT, frames
+from .base import EditRange, FusedSpace, Space, as_channels
 
 Convention = Literal["opengl", "directx"]
 _CONVENTIONS = ("opengl", "directx")
@@ -203,12 +207,17 @@ def _normal_log(n: np.ndarray) -> np.ndarray:
 # spaces
 
 
-class NormalFrameSpace(Space):
+class NormalFrameSpace(FusedSpace):
     """Unit normal (..., 3) <-> log of the smallest rotation taking ``z`` to it (..., 3).
 
     Edit values from this direction have a zero ``z`` component; ``from_edit``
     accepts any 3-vector (a ``z`` component twists about the normal, which a
-    normal alone does not see) and always returns a unit normal.
+    normal alone does not see) and always returns a unit normal. Zero-length,
+    infinite or NaN values on either side stand for the flat normal ``+z``.
+
+    Both directions are one fused numba pass (``_kernels.py``) computing in
+    float64; :func:`_normal_log` / :func:`quat_exp` + :func:`_quat_rotate_z`
+    are the numpy reference the tests compare it with.
     """
 
     name = "normal"
@@ -219,21 +228,23 @@ class NormalFrameSpace(Space):
     edit_range = EditRange(0.0, float(np.pi / 2))
     curve_mode = "vector"
 
-    def to_edit(self, phys: np.ndarray) -> np.ndarray:
-        n = _normalize_or_z(as_channels(phys, self.phys_channels, self.name))
-        return _normal_log(n)
+    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return frames(phys, out, NORMAL_TO_EDIT)
 
-    def from_edit(self, edit: np.ndarray) -> np.ndarray:
-        q = quat_exp(as_channels(edit, self.edit_channels, self.name))
-        return _normalize_or_z(_quat_rotate_z(q))
+    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return frames(edit, out, NORMAL_FROM_EDIT)
 
 
-class NormalTangentFrameSpace(Space):
+class NormalTangentFrameSpace(FusedSpace):
     """Normal + tangent (..., 6) = (n, t) <-> log of the rotation to ``(t, n x t, n)`` (..., 3).
 
     ``n`` is normalised, ``t`` is Gram-Schmidt orthonormalised against ``n``;
     when ``t`` is (nearly) parallel to ``n`` or zero it falls back to the
-    tangent of the smallest-rotation frame of ``n``.
+    tangent of the smallest-rotation frame of ``n``. ``from_edit`` returns the
+    flat frame ``(z, x)`` for non-finite edit values.
+
+    Both directions are one fused numba pass (``_kernels.py``);
+    :meth:`_reference_to_edit` is the numpy reference the tests compare it with.
     """
 
     name = "normal_tangent"
@@ -244,7 +255,14 @@ class NormalTangentFrameSpace(Space):
     edit_range = EditRange(0.0, float(np.pi / 2))
     curve_mode = "vector"
 
-    def to_edit(self, phys: np.ndarray) -> np.ndarray:
+    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return frames(phys, out, FRAME_TO_EDIT)
+
+    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return frames(edit, out, FRAME_FROM_EDIT)
+
+    def _reference_to_edit(self, phys: np.ndarray) -> np.ndarray:
+        """The numpy (float32) formulation of ``to_edit``, kept as a test reference."""
         frame = as_channels(phys, self.phys_channels, self.name)
         n = _normalize_or_z(frame[..., :3])
         t = frame[..., 3:]
@@ -260,12 +278,6 @@ class NormalTangentFrameSpace(Space):
         b = _cross(n, t)
         rot = np.stack([t, b, n], axis=-1)  # columns: images of x, y, z
         return quat_log(quat_from_matrix(rot))
-
-    def from_edit(self, edit: np.ndarray) -> np.ndarray:
-        q = quat_exp(as_channels(edit, self.edit_channels, self.name))
-        return np.concatenate([_quat_rotate_z(q), _quat_rotate_x(q)], axis=-1).astype(
-            np.float32, copy=False
-        )
 
 
 # ---------------------------------------------------------------------------

@@ -31,39 +31,42 @@ Both coordinates round-trip every 8-bit code ``r = k/255`` to itself.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from .base import EditRange, Space, as_channels
+from ._kernels import ATAN_SQUARE, SQRT, SQRT_TAN, SQUARE, transfer
+from .base import EditRange, FusedSpace, Space
 
-_F32 = np.float32
-_QUARTER_PI = _F32(0.25 * np.pi)
-
-
-def _perceptual(r: np.ndarray) -> np.ndarray:
-    return np.clip(np.asarray(r, dtype=_F32), _F32(0.0), _F32(1.0))
+_QUARTER_PI = 0.25 * math.pi
 
 
-def alpha_to_edit(r: np.ndarray) -> np.ndarray:
-    """``alpha = r^2``."""
-    r = _perceptual(r)
-    return r * r
+def _map(values: np.ndarray, out: np.ndarray | None, curve: int, lo: float, hi: float):
+    """Clamp to ``[lo, hi]`` and apply ``curve``: one fused pass into ``out`` or a new array."""
+    v = np.asarray(values, dtype=np.float32)
+    if out is None:
+        out = np.empty(v.shape, dtype=np.float32)
+    return transfer(v, out, curve, lo=lo, hi=hi)
 
 
-def alpha_from_edit(e: np.ndarray) -> np.ndarray:
+def alpha_to_edit(r: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
+    """``alpha = r^2`` with ``r`` clamped to ``[0, 1]``."""
+    return _map(r, out, SQUARE, 0.0, 1.0)
+
+
+def alpha_from_edit(e: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
     """``r = sqrt(clamp(alpha, 0, 1))``."""
-    return np.sqrt(np.clip(np.asarray(e, dtype=_F32), _F32(0.0), _F32(1.0)))
+    return _map(e, out, SQRT, 0.0, 1.0)
 
 
-def median_to_edit(r: np.ndarray) -> np.ndarray:
-    """Median lobe angle ``atan(r^2)`` in radians, in ``[0, pi/4]``."""
-    r = _perceptual(r)
-    return np.arctan(r * r).astype(_F32, copy=False)
+def median_to_edit(r: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
+    """Median lobe angle ``atan(r^2)`` in radians, in ``[0, pi/4]`` (``r`` clamped to [0, 1])."""
+    return _map(r, out, ATAN_SQUARE, 0.0, 1.0)
 
 
-def median_from_edit(e: np.ndarray) -> np.ndarray:
+def median_from_edit(e: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
     """``r = sqrt(clamp(tan e, 0, 1))`` with ``e`` clamped to ``[0, pi/4]`` first."""
-    e = np.clip(np.asarray(e, dtype=_F32), _F32(0.0), _QUARTER_PI)
-    return np.sqrt(np.clip(np.tan(e), _F32(0.0), _F32(1.0))).astype(_F32, copy=False)
+    return _map(e, out, SQRT_TAN, 0.0, _QUARTER_PI)
 
 
 _COORDINATES = {
@@ -80,7 +83,7 @@ _COORDINATES = {
 DEFAULT_COORDINATE = "median"
 
 
-class GGXSpace(Space):
+class GGXSpace(FusedSpace):
     """GGX perceptual roughness ``r`` <-> ``alpha`` or ``median`` coordinate."""
 
     family = "ggx"
@@ -95,11 +98,11 @@ class GGXSpace(Space):
         self.description = f"GGX perceptual roughness r (alpha = r^2): {description}"
         self.edit_range = EditRange(lo, hi)
 
-    def to_edit(self, phys: np.ndarray) -> np.ndarray:
-        return self._to_edit(as_channels(phys, 1, self.name))
+    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return self._to_edit(phys, out=out)
 
-    def from_edit(self, edit: np.ndarray) -> np.ndarray:
-        return self._from_edit(as_channels(edit, 1, self.name))
+    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return self._from_edit(edit, out=out)
 
 
 SPACES: dict[str, Space] = {

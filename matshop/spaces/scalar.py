@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import EditRange, Space, as_channels
+from ._kernels import IDENTITY, transfer
+from .base import EditRange, FusedSpace, Space, as_channels
 
 
-class IdentitySpace(Space):
+class IdentitySpace(FusedSpace):
     """Edit value == physical value; clamped to ``[lo, hi]`` on the way back."""
 
     curve_mode = "channels"
@@ -30,10 +31,15 @@ class IdentitySpace(Space):
         self.edit_range = EditRange(lo, hi) if bounded else EditRange(0.0, 1.0)
 
     def to_edit(self, phys: np.ndarray) -> np.ndarray:
-        return as_channels(phys, self.phys_channels, self.name).copy()
+        checked = as_channels(phys, self.phys_channels, self.name)
+        # a plain copy is a memcpy; as_channels has already copied when it converted
+        return checked.copy() if np.may_share_memory(checked, phys) else checked
 
-    def from_edit(self, edit: np.ndarray) -> np.ndarray:
-        return np.clip(as_channels(edit, self.edit_channels, self.name), self.lo, self.hi)
+    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return transfer(phys, out, IDENTITY)
+
+    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
+        return transfer(edit, out, IDENTITY, lo=self.lo, hi=self.hi)
 
 
 SPACES: dict[str, Space] = {
