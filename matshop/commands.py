@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 import numpy as np
@@ -225,9 +224,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
     sample = args.sample or Path(__file__).resolve().parent.parent / "resources" / "sample"
     if not sample.exists():
         raise MatshopError("bundled sample not found (run scripts/make_sample.py)", sample)
-    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
-        # the editor is not built yet; until it is, the demo is headless everywhere
-        pass
+    # the editor is not built yet: until it is, the demo is headless everywhere
     material, report = _load(sample, _defaults(args))
     print(describe(material, report))
     print()
