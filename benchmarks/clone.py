@@ -31,14 +31,12 @@ from __future__ import annotations
 import argparse
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import cv2
 import numpy as np
+from _common import edit_channels
 
 from matshop.ops.clone import CloneCoordinates, seamless_clone
-
-CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
 
 
 def best_times(fns: list[Callable[[], object]], repeat: int) -> list[float]:
@@ -52,21 +50,6 @@ def best_times(fns: list[Callable[[], object]], repeat: int) -> list[float]:
             fn()
             spent.append(time.perf_counter() - start)
     return [min(spent) for spent in times]
-
-
-def edit_channels(size: int) -> tuple[np.ndarray, str]:
-    """(size, size, 10) float32 edit values of a real set when available."""
-    if CHESSBOARD.is_dir():
-        from matshop.io.material_io import load_material
-
-        material, _ = load_material(CHESSBOARD)
-        edit = material.to_edit().data
-        what = f"chessboard edit channels ({', '.join(material.schema.names)})"
-    else:
-        edit = np.random.default_rng(0).random((2048, 2048, 8), dtype=np.float32)
-        what = "synthetic (chessboard absent)"
-    edit = np.concatenate([edit, edit[..., 3:5]], axis=2)[:size, :size]
-    return np.ascontiguousarray(edit), what
 
 
 def region_mask(size: int, diameter: int, shape: str, cx: int, cy: int) -> np.ndarray:

@@ -14,44 +14,15 @@ and ``benchmarks/clone.py``.
 from __future__ import annotations
 
 import argparse
-import time
-from collections.abc import Callable
-from pathlib import Path
 
 import cv2
 import numpy as np
+from _common import best_time, edit_channels
 
 from matshop.ops.blur import gaussian_blur
 from matshop.ops.composite import composite
 from matshop.ops.curves import curves
 from matshop.ops.scale import scale
-
-CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
-
-
-def best_time(fn: Callable[[], object], repeat: int) -> float:
-    fn()
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
-
-
-def edit_channels(size: int) -> tuple[np.ndarray, str]:
-    """(size, size, 10) float32 edit values of a real set when available."""
-    if CHESSBOARD.is_dir():
-        from matshop.io.material_io import load_material
-
-        material, _ = load_material(CHESSBOARD)
-        edit = material.to_edit().data
-        what = f"chessboard edit channels ({', '.join(material.schema.names)})"
-    else:
-        edit = np.random.default_rng(0).random((2048, 2048, 8), dtype=np.float32)
-        what = "synthetic (chessboard absent)"
-    edit = np.concatenate([edit, edit[..., 3:5]], axis=2)[:size, :size]
-    return np.ascontiguousarray(edit), what
 
 
 def line(label: str, ours: float, base: float, base_name: str) -> None:

@@ -13,25 +13,11 @@ space alone, and a 1K sampled-distribution texture (128 channels).
 from __future__ import annotations
 
 import argparse
-import time
-from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
+from _common import CHESSBOARD, best_time
 
 from matshop.material import Material, Schema
-
-CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
-
-
-def best_time(fn: Callable[[], object], repeat: int) -> float:
-    fn()  # warm-up: numba compilation, page faults
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def copy_time(nbytes: int, repeat: int) -> float:
