@@ -8,6 +8,7 @@ nothing is written when a command fails.
 from __future__ import annotations
 
 import argparse
+import importlib
 import os
 import sys
 from collections.abc import Sequence
@@ -30,6 +31,17 @@ examples:
                                             128-bin microfacet distribution (EXR)
   matshop demo                              the headless pipeline on the bundled sample
 """
+
+
+# Verbs that live beside their engine package. Each module has
+# ``add_parsers(verbs)``, which may import only the standard library (so that
+# `matshop --help` stays fast), and ``run(args) -> int``; every parser it adds
+# sets ``verb_module`` through ``set_defaults`` so ``main`` can dispatch to it.
+_VERB_MODULES = (
+    "matshop.export.verbs",
+    "matshop.render.verbs",
+    "matshop.project_verbs",
+)
 
 
 def _repo_sample() -> Path:
@@ -150,6 +162,14 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument(
         "--out", type=Path, default=Path("matshop-demo"), help="output folder (./matshop-demo)"
     )
+    for module_name in _VERB_MODULES:
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:
+            if exc.name is None or not module_name.startswith(exc.name):
+                raise
+            continue  # a verb package not built yet
+        module.add_parsers(verbs)
     return parser
 
 
@@ -162,6 +182,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     from . import commands  # keeps `matshop --help` fast: no numpy/OIIO import
 
     try:
+        module_name = getattr(args, "verb_module", None)
+        if module_name is not None:
+            return importlib.import_module(module_name).run(args)
         return commands.run(args)
     except MatshopError as exc:
         print(f"matshop: error: {exc}", file=sys.stderr)
