@@ -70,33 +70,40 @@ class EditableMaterial:
             return mask
         return load_mask(mask, self.size)
 
-    def _as_over(self, over: Any, params: list[str]) -> tuple[np.ndarray, list[str]]:
-        """The layer to composite, aligned with this material's edit vector.
+    def _aligned(
+        self, other: Any, params: list[str], *, same_size: bool
+    ) -> tuple[np.ndarray, list[str]]:
+        """Another texture set as an array laid out like this material's edit vector.
 
         A texture set given as a path or an EditableMaterial contributes only
-        the parameters it has (in the same editing space); the others stay.
+        the parameters it has (in the same editing space); the others are not
+        selected. ``same_size`` inputs (a layer composited over) must match
+        this material's size; a clone source may have any size.
         """
-        if isinstance(over, np.ndarray):
-            return over, params
-        source = None if isinstance(over, EditableMaterial) else over
-        other = over if source is None else EditableMaterial.from_path(source)
-        if other.size != self.size:
+        if isinstance(other, np.ndarray):
+            return other, params
+        path = None if isinstance(other, EditableMaterial) else other
+        material = other if path is None else EditableMaterial.from_path(path)
+        if same_size and material.size != self.size:
             raise MatshopError(
-                f"layer is {other.size[1]}x{other.size[0]}, the material is "
+                f"layer is {material.size[1]}x{material.size[0]}, the material is "
                 f"{self.size[1]}x{self.size[0]}",
-                source,
+                path,
             )
-        aligned = self.edit.data.copy()
+        if material.size == self.size:
+            aligned = self.edit.data.copy()
+        else:
+            aligned = np.zeros((*material.size, self.edit.data.shape[-1]), np.float32)
         shared = []
         for name in params:
-            if name in other.schema and other.schema[name].space == self.schema[name].space:
-                aligned[..., self.schema.edit_slices[name]] = other.edit[name]
+            if name in material.schema and material.schema[name].space == self.schema[name].space:
+                aligned[..., self.schema.edit_slices[name]] = material.edit[name]
                 shared.append(name)
         if not shared:
             raise MatshopError(
-                f"the layer shares no selected parameter with the material (layer has "
-                f"{', '.join(other.schema.names)})",
-                source,
+                f"shares no selected parameter with the material (it has "
+                f"{', '.join(material.schema.names)})",
+                path,
             )
         return aligned, shared
 
@@ -118,13 +125,17 @@ class EditableMaterial:
         missing = [name for name in spec.inputs if name not in inputs]
         if missing:
             raise MatshopError(f"{op}: needs {', '.join(missing)}=... (another texture set)")
+        optional = {name: values.pop(name) for name in spec.optional_inputs if name in values}
         bound = spec.bind(values)
         names = resolve_params(self.schema, params, op)
-        if "over" in inputs:
-            inputs["over"], names = self._as_over(inputs["over"], names)
+        for name in inputs:
+            inputs[name], names = self._aligned(inputs[name], names, same_size=True)
+        for name in optional:
+            optional[name], names = self._aligned(optional[name], names, same_size=False)
         result = spec.function(
             self.edit.data,
             *inputs.values(),
+            **optional,
             schema=self.schema,
             params=names,
             mask=self._as_mask(mask),

@@ -164,7 +164,7 @@ def cmd_apply(args: argparse.Namespace) -> int:
     for name, *pairs in args.op:
         spec = get_op(name)
         values = spec.parse_args(pairs)
-        spec.bind({k: v for k, v in values.items() if k not in spec.inputs})
+        spec.bind({k: v for k, v in values.items() if k not in spec.all_inputs})
         steps.append((name, values))
     m = EditableMaterial.from_path(
         args.input, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
@@ -195,8 +195,9 @@ def cmd_ops(args: argparse.Namespace) -> int:
     for spec in all_ops().values():
         kind = "linear" if spec.linear else "non-linear"
         print(f"{spec.name}: {spec.summary} ({kind})")
-        for extra in spec.inputs:
-            print(f"    {extra + '=PATH':<26s} another texture set (required)")
+        for extra in spec.all_inputs:
+            need = "required" if extra in spec.inputs else "optional"
+            print(f"    {extra + '=PATH':<26s} another texture set ({need})")
         for param in spec.params:
             facts = []
             if param.unit:

@@ -129,3 +129,58 @@ def test_masked_result_is_written_through_from_edit(tmp_path: Path) -> None:
     normal, _ = read_image(tmp_path / "o" / "tiles_normal.png")
     # scaling the frame by 0 flattens every normal to +z: (0.5, 0.5, 1) in the file
     assert np.abs(normal - [0.5, 0.5, 1.0]).max() <= 1 / 255
+
+
+def test_cli_composite_over_a_path_equals_the_api(tmp_path: Path) -> None:
+    rust = tmp_path / "rust"
+    rust.mkdir()
+    write_image(rust / "rust_basecolor.png", np.tile([[[0.6, 0.25, 0.1]]], (512, 512, 1)))
+    argv = ["apply", str(SAMPLE), str(tmp_path / "cli"), "--op", "composite"]
+    assert main([*argv, f"over={rust}", "opacity=0.5"]) == 0
+    matshop.open(SAMPLE).apply("composite", over=rust, opacity=0.5).save(tmp_path / "api")
+    assert _files(tmp_path / "api") == _files(tmp_path / "cli")
+
+
+def test_cli_clone_from_another_set_of_another_size(tmp_path: Path) -> None:
+    # a 96x64 source set of a constant color: the cloned square takes its
+    # color in the interior and stays seamless at the boundary
+    source = tmp_path / "src"
+    source.mkdir()
+    write_image(source / "src_basecolor.png", np.tile([[[0.2, 0.6, 0.3]]], (64, 96, 1)))
+    argv = [
+        "apply",
+        str(SAMPLE),
+        str(tmp_path / "cli"),
+        "--op",
+        "clone",
+        f"source={source}",
+        "region=8,8;56,8;56,56;8,56",
+        "offset=100,200",
+        "--params",
+        "base_color",
+    ]
+    assert main(argv) == 0
+    api = matshop.open(SAMPLE).apply(
+        "clone",
+        source=source,
+        region=[(8, 8), (56, 8), (56, 56), (8, 56)],
+        offset=(100, 200),
+        params="base_color",
+    )
+    api.save(tmp_path / "api")
+    assert _files(tmp_path / "api") == _files(tmp_path / "cli")
+    before = matshop.open(SAMPLE)
+    after = matshop.open(tmp_path / "cli")
+    # outside the pasted square nothing changed (to one 8-bit code)
+    outside = np.ones((512, 512), bool)
+    outside[200:256, 100:156] = False
+    diff = np.abs(after.edit["base_color"] - before.edit["base_color"])
+    assert diff[outside].max() <= 1 / 255 + 1e-6
+    # with a constant source and a convex region, MVC makes the interior a convex
+    # combination of the target's values on the boundary (the weights are positive)
+    inside = after.edit["base_color"][201:255, 101:155].reshape(-1, 3)
+    ring = np.ones((56, 56), bool)
+    ring[1:-1, 1:-1] = False
+    boundary = before.edit["base_color"][200:256, 100:156][ring]
+    assert np.all(inside >= boundary.min(axis=0) - 1 / 255)
+    assert np.all(inside <= boundary.max(axis=0) + 1 / 255)

@@ -675,5 +675,6 @@ SPECS = (
         ),
         linear=True,
         neighbourhood=True,
+        optional_inputs=("source",),
     ),
 )

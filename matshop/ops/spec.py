@@ -184,8 +184,15 @@ class OpSpec:
     neighbourhood: bool = False
     #: parameter families it is meant for ("all" or space names)
     suits: tuple[str, ...] = ("all",)
-    #: extra inputs beyond the edit array (e.g. the layer composited over)
+    #: extra inputs beyond the edit array (e.g. the layer composited over),
+    #: passed positionally; on the command line each is ``name=PATH`` of a texture set
     inputs: tuple[str, ...] = field(default_factory=tuple)
+    #: like ``inputs`` but optional, passed by keyword (e.g. a clone's source)
+    optional_inputs: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def all_inputs(self) -> tuple[str, ...]:
+        return self.inputs + self.optional_inputs
 
     def param(self, name: str) -> ParamSpec:
         for spec in self.params:
@@ -209,13 +216,22 @@ class OpSpec:
         return bound
 
     def parse_args(self, pairs: Sequence[str]) -> dict[str, Any]:
-        """``["sigma_px=4", "border=clamp"]`` -> typed, unvalidated values."""
+        """``["sigma_px=4", "border=clamp"]`` -> typed, unvalidated values.
+
+        Inputs (``over=PATH``) stay strings: the caller loads them.
+        """
         values = {}
         for pair in pairs:
             key, sep, text = pair.partition("=")
+            key, text = key.strip(), text.strip()
             if not sep:
                 raise OpError(f"{self.name}: expected key=value, got {pair!r}")
-            values[key.strip()] = self.param(key.strip()).parse(text.strip(), self.name)
+            if key in self.all_inputs:
+                if not text:
+                    raise OpError(f"{self.name}: {key}= needs the path of a texture set")
+                values[key] = text
+            else:
+                values[key] = self.param(key).parse(text, self.name)
         return values
 
 
