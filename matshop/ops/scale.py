@@ -12,6 +12,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..material import Schema
+from ._kernels import scale_lerp
 from .selection import Selection
 from .spec import OpSpec, ParamSpec
 
@@ -47,6 +48,12 @@ def scale(
     [0.5, 0.5]
     """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op="scale")
+    if selection.mask is not None:
+        # scale and blend in one pass: no full-size intermediate
+        weights = selection.mask
+        return selection.put_with(
+            edit, lambda src, dst: scale_lerp(src, np.float32(factor), weights, dst)
+        )
     block = selection.take(edit)
     return selection.put(edit, np.multiply(block, np.float32(factor), dtype=np.float32))
 

@@ -10,7 +10,7 @@ op's result back: unselected channels are copied untouched and a mask in
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -166,6 +166,27 @@ class Selection:
         for group in self.groups:
             weights[group.channels] = group.distance_weights()
         return weights
+
+    def put_with(
+        self, edit: np.ndarray, kernel: Callable[[np.ndarray, np.ndarray], None]
+    ) -> np.ndarray:
+        """A new full array whose selected channels ``kernel(src, dst)`` writes.
+
+        For pointwise ops that fuse the mask blend into their own pass, so no
+        intermediate full-size result is made; the other channels are copied.
+        """
+        if self.everything:
+            out = np.empty_like(edit)
+            kernel(edit, out)
+            return out
+        out = edit.copy()
+        if isinstance(self._slice, slice):
+            kernel(edit[..., self._slice], out[..., self._slice])
+        else:
+            block = np.empty((*edit.shape[:2], self.width), dtype=np.float32)
+            kernel(self.take(edit), block)
+            out[..., self._slice] = block
+        return out
 
     def put(self, edit: np.ndarray, result: np.ndarray) -> np.ndarray:
         """A new full array: ``result`` in the selected channels, blended by the mask."""
