@@ -68,15 +68,23 @@ class PaintTransaction:
             self.grid.replace({key: tile})
         return tile
 
-    def _parts(self, rect: Rect) -> Iterator[tuple[np.ndarray, tuple[slice, slice]]]:
-        """(writable part of a tile, matching slices of an array covering ``rect``)."""
+    def _parts(self, rect: Rect) -> Iterator[tuple[np.ndarray, tuple[slice, slice], np.ndarray]]:
+        """Per tile of ``rect``: (writable part of the tile, matching slices of an
+        array covering ``rect``, the same texels as they were before this transaction)."""
         if not self._open:
             raise RuntimeError("this paint transaction is already committed or cancelled")
         layout = self.doc.layout
         for key in layout.keys_in(rect):
             tile_rect = layout.tile_rect(key)
             part = tile_rect.intersect(rect)
-            yield self._tile(key)[part.relative_to(tile_rect)], part.relative_to(rect)
+            in_tile = part.relative_to(tile_rect)
+            working = self._tile(key)[in_tile]
+            before = self._before[key]
+            if before is None:
+                original = np.broadcast_to(self.grid.fill, working.shape)
+            else:
+                original = before[in_tile]
+            yield working, part.relative_to(rect), original
 
     def _changed(self, rect: Rect) -> None:
         self.doc.tiles_changed(self.layer_id, self.target, self.doc.layout.tiles_of(rect))
@@ -91,51 +99,75 @@ class PaintTransaction:
             raise ValueError(
                 f"block is {block.shape}, {rect} needs ({rect.height}, {rect.width}, {channels})"
             )
-        for tile, where in self._parts(rect):
+        for tile, where, _ in self._parts(rect):
             tile[...] = block[where]
         self._changed(rect)
 
-    def paint(self, rect: Rect, values: np.ndarray | float, alpha: np.ndarray) -> None:
+    def paint(
+        self,
+        rect: Rect,
+        values: np.ndarray | float,
+        alpha: np.ndarray,
+        *,
+        channels: np.ndarray | None = None,
+        over_original: bool = False,
+    ) -> None:
         """Composite a dab over ``rect`` with weight ``alpha`` ``(h, w)`` in [0, 1].
 
         Pixels: ``values`` is an edit vector ``(C,)`` or ``(h, w, C)``, painted
         straight-alpha over (coverage ``c' = a + c (1 - a)``, value moves
         toward the dab by ``a / c'``), so a soft dab on empty texels paints the
-        dab's value, not a darkened one. Masks: ``values`` is the mask value
-        (scalar or ``(h, w)``), ``m' = m + a (v - m)``.
+        dab's value, not a darkened one; ``channels`` (indices into the edit
+        vector) limits which values move, the others keep what the layer held.
+        Masks: ``values`` is the mask value (scalar or ``(h, w)``),
+        ``m' = m + a (v - m)``.
+
+        ``over_original`` composites over what the texels held before this
+        transaction instead of their current state: a brush that accumulates
+        its own stroke alpha uses it so a stroke never exceeds its opacity.
         """
-        alpha = np.asarray(alpha, dtype=np.float32)
-        if alpha.shape != (rect.height, rect.width):
-            raise ValueError(f"alpha is {alpha.shape}, {rect} needs ({rect.height}, {rect.width})")
-        channels = self.grid.channels
-        width = channels - 1 if self.target == "pixels" else 1
+        alpha = self._check_alpha(rect, alpha)
+        width = self.grid.channels - 1 if self.target == "pixels" else 1
         dab = np.asarray(values, dtype=np.float32)
         if self.target == "mask" and dab.ndim == 2:
             dab = dab[..., None]
         dab = np.broadcast_to(dab, (rect.height, rect.width, width))
         one = np.float32(1.0)
-        for tile, where in self._parts(rect):
+        for tile, where, original in self._parts(rect):
             a = alpha[where]
+            base = original if over_original else tile
             if self.target == "mask":
-                mask = tile[..., 0]
-                mask += a * (dab[where][..., 0] - mask)
+                mask = base[..., 0]
+                tile[..., 0] = mask + a * (dab[where][..., 0] - mask)
                 continue
-            coverage = tile[..., -1]
+            coverage = base[..., -1]
             new_coverage = a + coverage * (one - a)
             share = np.divide(a, new_coverage, out=np.zeros_like(a), where=new_coverage > 0)
-            old = tile[..., :-1]
-            old += share[..., None] * (dab[where] - old)
+            old = base[..., :-1]
+            moved = old + share[..., None] * (dab[where] - old)
+            if channels is None:
+                tile[..., :-1] = moved
+            else:
+                if over_original:
+                    tile[..., :-1] = old
+                tile[..., channels] = moved[..., channels]
             tile[..., -1] = new_coverage
         self._changed(rect)
 
-    def erase(self, rect: Rect, alpha: np.ndarray) -> None:
+    def erase(self, rect: Rect, alpha: np.ndarray, *, over_original: bool = False) -> None:
         """Remove coverage (pixels) or hide (mask): ``c' = c (1 - a)``."""
+        alpha = self._check_alpha(rect, alpha)
+        for tile, where, original in self._parts(rect):
+            base = original if over_original else tile
+            tile[..., -1] = base[..., -1] * (np.float32(1.0) - alpha[where])
+        self._changed(rect)
+
+    @staticmethod
+    def _check_alpha(rect: Rect, alpha: np.ndarray) -> np.ndarray:
         alpha = np.asarray(alpha, dtype=np.float32)
         if alpha.shape != (rect.height, rect.width):
             raise ValueError(f"alpha is {alpha.shape}, {rect} needs ({rect.height}, {rect.width})")
-        for tile, where in self._parts(rect):
-            tile[..., -1] *= np.float32(1.0) - alpha[where]
-        self._changed(rect)
+        return alpha
 
     def commit(self) -> PaintEdit:
         """Freeze the touched tiles and return the (already applied) edit."""

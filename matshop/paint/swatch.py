@@ -1,0 +1,130 @@
+"""Material swatches: what a brush paints, for any subset of the parameters.
+
+A swatch stores *physical* values (linear color, roughness, a unit normal...)
+so a saved library means the same thing whatever editing spaces a document
+uses; it is converted to edit values when a stroke starts. Bronze, say, is a
+color, a roughness, a metallic value and a flat frame, painted in one stroke.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MatshopError
+from ..io.atomic import atomic_target
+from ..material import Schema
+
+LIBRARY_FORMAT = "matshop-swatches"
+LIBRARY_VERSION = 1
+
+
+@dataclass(frozen=True)
+class Swatch:
+    """A named set of physical parameter values."""
+
+    name: str
+    values: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        clean = {}
+        for param, value in self.values.items():
+            vector = tuple(float(v) for v in np.atleast_1d(np.asarray(value, dtype=np.float64)))
+            if not vector or not all(math.isfinite(v) for v in vector):
+                raise ValueError(f"swatch {self.name!r}: {param} must be finite numbers")
+            clean[str(param)] = vector
+        if not clean:
+            raise ValueError(f"swatch {self.name!r} has no values")
+        object.__setattr__(self, "values", clean)
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        return tuple(self.values)
+
+    def edit_values(self, schema: Schema) -> tuple[np.ndarray, np.ndarray]:
+        """``(edit vector (C,), indices of the channels it defines)`` for ``schema``.
+
+        Channels of parameters the swatch does not define are 0 and not listed.
+        """
+        unknown = [p for p in self.values if p not in schema]
+        if unknown:
+            raise ValueError(
+                f"swatch {self.name!r} sets {', '.join(unknown)}, which this material "
+                f"does not have (it has {', '.join(schema.names)})"
+            )
+        vector = np.zeros(schema.edit_width, dtype=np.float32)
+        channels = []
+        for param in schema.parameters:
+            if param.name not in self.values:
+                continue
+            phys = np.asarray(self.values[param.name], dtype=np.float32)
+            if phys.size != param.phys_channels:
+                raise ValueError(
+                    f"swatch {self.name!r}: {param.name} needs {param.phys_channels} "
+                    f"value(s), got {phys.size}"
+                )
+            where = schema.edit_slices[param.name]
+            vector[where] = param.space.to_edit(phys.reshape(1, 1, -1))[0, 0]
+            channels.extend(range(where.start, where.stop))
+        return vector, np.asarray(channels, dtype=np.intp)
+
+    @classmethod
+    def from_physical(
+        cls,
+        name: str,
+        maps: Mapping[str, np.ndarray],
+        x: int,
+        y: int,
+        parameters: Sequence[str] | None = None,
+    ) -> Swatch:
+        """The eyedropper: texel (x, y) of physical maps (e.g. ``Document.physical()``)."""
+        names = list(maps) if parameters is None else list(parameters)
+        return cls(name, {p: tuple(np.asarray(maps[p][y, x]).ravel().tolist()) for p in names})
+
+    def to_json(self) -> dict:
+        return {"name": self.name, "values": {k: list(v) for k, v in self.values.items()}}
+
+    @classmethod
+    def from_json(cls, data: object) -> Swatch:
+        if not isinstance(data, dict) or not isinstance(data.get("values"), dict):
+            raise ValueError("a swatch is an object with a name and a values object")
+        return cls(str(data.get("name", "swatch")), data["values"])
+
+
+def save_swatches(path: str | Path, swatches: Sequence[Swatch]) -> None:
+    """Write a swatch library (JSON) atomically."""
+    document = {
+        "format": LIBRARY_FORMAT,
+        "version": LIBRARY_VERSION,
+        "swatches": [s.to_json() for s in swatches],
+    }
+    with atomic_target(Path(path)) as temp:
+        Path(temp).write_text(json.dumps(document, indent=2) + "\n", encoding="utf-8")
+
+
+def load_swatches(path: str | Path) -> list[Swatch]:
+    """Read a swatch library; a bad file is one clear error naming it."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise MatshopError("file not found", path) from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise MatshopError(f"not a swatch library ({exc.__class__.__name__})", path) from None
+    if not isinstance(data, dict) or data.get("format") != LIBRARY_FORMAT:
+        raise MatshopError(f'not a swatch library (no "format": "{LIBRARY_FORMAT}")', path)
+    version = data.get("version")
+    if not isinstance(version, int) or version > LIBRARY_VERSION:
+        raise MatshopError(
+            f"swatch library version {version!r}; this matshop reads up to {LIBRARY_VERSION}",
+            path,
+        )
+    try:
+        return [Swatch.from_json(item) for item in data.get("swatches", [])]
+    except ValueError as exc:
+        raise MatshopError(str(exc), path) from None
