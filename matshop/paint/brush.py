@@ -73,10 +73,12 @@ def dab_footprint(
     [i, i + 1) x [j, j + 1), its centre at +0.5). The result is unclipped:
     ``x0, y0`` may be negative or reach past the image, for the caller to
     clip or wrap. Alpha is 1 within ``hardness * radius`` and falls to 0 at
-    ``radius + 0.5`` along a smoothstep, so even a hard dab is anti-aliased.
+    ``radius + 0.5`` along a smoothstep; the falloff is at least one texel
+    wide, centred on the radius for a hard dab, so a hard dab is anti-aliased
+    and covers the area of its disc.
     """
     outer = radius_px + 0.5
-    inner = min(hardness * radius_px, outer - 0.5)
+    inner = max(min(hardness * radius_px, radius_px - 0.5), 0.0)
     x0 = math.floor(x - outer)
     y0 = math.floor(y - outer)
     x1 = math.ceil(x + outer)
