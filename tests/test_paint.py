@@ -14,9 +14,9 @@ from matshop.material import Material, Schema
 from matshop.paint import (
     Brush,
     PressureCurve,
+    Stroker,
     StrokeSample,
     StrokeSession,
-    Stroker,
     Swatch,
     dab_footprint,
     load_swatches,
