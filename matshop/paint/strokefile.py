@@ -1,0 +1,145 @@
+"""Stroke files: brush strokes as JSON, for pipelines and replayable tests.
+
+::
+
+    {"strokes": [
+      {"layer": "Paint 2",            # layer name or id; default: the top paint layer
+       "mode": "paint",               # paint | erase | clone
+       "target": "pixels",            # pixels | mask
+       "brush": {"radius_px": 24, "hardness": 0.8, "spacing": 0.1,
+                 "opacity": 1, "flow": 1,
+                 "size_pressure": [[0, 0.2], [1, 1]]},
+       "swatch": {"name": "bronze", "values": {"base_color": [0.45, 0.25, 0.08],
+                                                "roughness": [0.3]}},
+       "mask_value": 1.0, "clone_offset": [-30, 12], "wrap": true,
+       "points": [[x, y, pressure], [x, y], ...]}
+    ]}
+
+A file may also be a single stroke object or a list of them. Coordinates are
+texels from the top-left corner; pressure defaults to 1.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import MatshopError
+from .brush import Brush
+from .pressure import PressureCurve
+from .stroke import StrokeSample
+from .swatch import Swatch
+
+MAX_POINTS = 1_000_000
+_BRUSH_NUMBERS = ("radius_px", "hardness", "spacing", "opacity", "flow")
+_STROKE_KEYS = {
+    "layer",
+    "mode",
+    "target",
+    "brush",
+    "swatch",
+    "mask_value",
+    "clone_offset",
+    "wrap",
+    "points",
+}
+
+
+@dataclass
+class StrokeSpec:
+    """One stroke read from a file, ready for :class:`~matshop.paint.StrokeSession`."""
+
+    layer: str | int | None
+    samples: list[StrokeSample]
+    brush: Brush
+    options: dict[str, Any] = field(default_factory=dict)
+
+
+def _brush(data: Any) -> Brush:
+    if data is None:
+        return Brush()
+    if not isinstance(data, dict):
+        raise ValueError("brush must be an object")
+    unknown = set(data) - {*_BRUSH_NUMBERS, "size_pressure", "opacity_pressure"}
+    if unknown:
+        raise ValueError(f"brush has unknown setting(s) {', '.join(sorted(unknown))}")
+    numbers = {}
+    for key in _BRUSH_NUMBERS:
+        if key in data:
+            if isinstance(data[key], bool) or not isinstance(data[key], int | float):
+                raise ValueError(f"brush {key} must be a number")
+            numbers[key] = float(data[key])
+    curves = {
+        key: PressureCurve.from_points(data[key])
+        for key in ("size_pressure", "opacity_pressure")
+        if key in data
+    }
+    return Brush(**numbers, **curves)
+
+
+def _samples(points: Any) -> list[StrokeSample]:
+    if not isinstance(points, list) or not points:
+        raise ValueError("points must be a non-empty list of [x, y] or [x, y, pressure]")
+    if len(points) > MAX_POINTS:
+        raise ValueError(f"a stroke has at most {MAX_POINTS} points, got {len(points)}")
+    samples = []
+    for point in points:
+        ok = isinstance(point, list) and len(point) in (2, 3)
+        if not ok or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in point):
+            raise ValueError(f"bad point {point!r}: expected [x, y] or [x, y, pressure]")
+        samples.append(StrokeSample(*(float(v) for v in point)))
+    return samples
+
+
+def parse_stroke(data: Any) -> StrokeSpec:
+    if not isinstance(data, dict):
+        raise ValueError("a stroke must be an object")
+    unknown = set(data) - _STROKE_KEYS
+    if unknown:
+        raise ValueError(f"stroke has unknown key(s) {', '.join(sorted(unknown))}")
+    options: dict[str, Any] = {}
+    for key in ("mode", "target"):
+        if key in data:
+            options[key] = str(data[key])
+    if "swatch" in data:
+        options["swatch"] = Swatch.from_json(data["swatch"])
+    if "mask_value" in data:
+        options["mask_value"] = float(data["mask_value"])
+    if "clone_offset" in data:
+        offset = data["clone_offset"]
+        if not (isinstance(offset, list) and len(offset) == 2):
+            raise ValueError("clone_offset must be [dx, dy]")
+        options["clone_offset"] = (float(offset[0]), float(offset[1]))
+    if "wrap" in data:
+        if not isinstance(data["wrap"], bool):
+            raise ValueError("wrap must be true or false")
+        options["wrap"] = data["wrap"]
+    layer = data.get("layer")
+    if layer is not None and (isinstance(layer, bool) or not isinstance(layer, str | int)):
+        raise ValueError("layer must be a layer name or id")
+    return StrokeSpec(layer, _samples(data.get("points")), _brush(data.get("brush")), options)
+
+
+def load_strokes(path: str | Path) -> list[StrokeSpec]:
+    """Read a stroke file; anything wrong is one :class:`MatshopError` naming the file."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise MatshopError("file not found", path) from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise MatshopError(f"not a stroke file ({exc})", path) from None
+    if isinstance(data, dict) and "strokes" in data:
+        data = data["strokes"]
+    items = data if isinstance(data, list) else [data]
+    strokes = []
+    for number, item in enumerate(items, 1):
+        try:
+            strokes.append(parse_stroke(item))
+        except (ValueError, TypeError) as exc:
+            raise MatshopError(f"stroke {number}: {exc}", path) from None
+    if not strokes:
+        raise MatshopError("no strokes in the file", path)
+    return strokes
