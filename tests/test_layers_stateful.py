@@ -38,6 +38,7 @@ from matshop.layers import (
     flatten_reference,
 )
 from matshop.material import Schema
+from matshop.paint import Brush, StrokeSample, StrokeSession, Swatch
 
 SCHEMA = Schema.from_names(["base_color", "roughness", "metallic"])  # 5 edit channels
 C = SCHEMA.edit_width
@@ -111,6 +112,24 @@ def execute(doc: Document, history: History, command: tuple) -> bool:
             if seed % 3 == 0:  # a second dab in the same stroke
                 tx.paint(rect.translate(seed % 7 - 3, 2), values[::-1].copy(), alpha)
         return history.push(tx.commit(), applied=True)
+    if kind == "stroke":
+        _, mode, points, radius, hardness, opacity, seed = args
+        rng = np.random.default_rng(seed)
+        swatch = Swatch(
+            "random",
+            {"base_color": rng.random(3), "roughness": rng.random(1), "metallic": rng.random(1)},
+        )
+        session = StrokeSession(
+            doc,
+            layer_id,
+            Brush(radius_px=radius, hardness=hardness, opacity=opacity, flow=0.7),
+            mode=mode,
+            swatch=swatch if mode == "paint" else None,
+            clone_offset=(seed % 11 - 5, seed % 7 - 3),
+        )
+        session.add([StrokeSample(x, y, p) for x, y, p in points])
+        edit = session.end()
+        return False if edit is None else history.push(edit, applied=True)
     raise AssertionError(kind)
 
 
@@ -235,6 +254,23 @@ class DocumentMachine(RuleBasedStateMachine):
         """Brush-like blobs are what users do most: a second, more likely paint rule."""
         index = self._index(data, (PaintLayer,))
         self._run(("paint", index, "pixels", self._rect(data), seed, True))
+
+    @precondition(lambda self: any(isinstance(la, PaintLayer) for la in self.doc.layers))
+    @rule(
+        data=st.data(),
+        mode=st.sampled_from(["paint", "paint", "erase", "clone"]),
+        radius=st.sampled_from([0.5, 2.0, 5.5]),
+        hardness=st.sampled_from([0.0, 0.6, 1.0]),
+        opacity=st.sampled_from([1.0, 0.4]),
+        seed=st.integers(0, 10_000),
+    )
+    def brush_stroke(self, data, mode, radius, hardness, opacity, seed) -> None:
+        """A stroke of the real brush engine (spacing, wash mode, wrap, clone stamp)."""
+        index = self._index(data, (PaintLayer,))
+        height, width = self.doc.size
+        coordinate = st.tuples(st.floats(-3, width + 3), st.floats(-3, height + 3), st.floats(0, 1))
+        points = data.draw(st.lists(coordinate, min_size=1, max_size=4))
+        self._run(("stroke", index, mode, points, radius, hardness, opacity, seed))
 
     @precondition(lambda self: any(la.mask is not None for la in self.doc.layers))
     @rule(data=st.data(), seed=st.integers(0, 10_000), blob=st.booleans())
