@@ -41,6 +41,7 @@ _VERB_MODULES = (
     "matshop.export.verbs",
     "matshop.render.verbs",
     "matshop.project_verbs",
+    "matshop.app.verbs",
 )
 
 
