@@ -27,6 +27,7 @@ from matshop.layers import (
     Document,
     FillLayer,
     FilterLayer,
+    GroupLayer,
     History,
     MoveLayer,
     PaintLayer,
@@ -85,6 +86,8 @@ def execute(doc: Document, history: History, command: tuple) -> bool:
             else:
                 texture = np.random.default_rng(seed).normal(0.5, 0.3, (doc.height, doc.width, C))
                 layer = doc.new_fill_layer(name, source=texture.astype(np.float32), **props)
+        elif layer_kind == "group":
+            layer = doc.new_group_layer(name, **{**props, "blend": "normal"})
         else:
             op, op_params = payload
             layer = doc.new_filter_layer(op, name, op_params=op_params, **props)
@@ -96,6 +99,9 @@ def execute(doc: Document, history: History, command: tuple) -> bool:
         return history.push(MoveLayer(layer_id, args[1]))
     if kind == "prop":
         return history.push(SetProperty(layer_id, args[1], args[2]))
+    if kind == "join":  # args: layer index, group index or None
+        parent = None if args[1] is None else doc.layers[args[1]].id
+        return history.push(SetProperty(layer_id, "parent", parent))
     if kind == "mask":
         mask = None if args[1] is None else doc.new_mask(args[1])
         return history.push(SetMask(layer_id, mask))
@@ -136,8 +142,11 @@ def execute(doc: Document, history: History, command: tuple) -> bool:
 def snapshot(doc: Document) -> list[Any]:
     """Everything that defines a document's content, ids aside."""
     state: list[Any] = [doc.size]
+    index_of = {layer.id: index for index, layer in enumerate(doc.layers)}
     for layer in doc.layers:
         info = layer.describe()
+        # ids differ between a document and its replay: name the group by position
+        info["parent"] = index_of.get(info["parent"], "gone" if info["parent"] else None)
         state.append(repr(sorted(info.items())))
         if layer.mask is not None:
             state.append(layer.mask.to_array().tobytes())
@@ -296,7 +305,32 @@ class DocumentMachine(RuleBasedStateMachine):
         ),
     )
     def set_property(self, data, change) -> None:
-        self._run(("prop", self._index(data), *change))
+        index = self._index(data)
+        if change[0] == "blend" and isinstance(self.doc.layers[index], GroupLayer):
+            change = ("blend", "normal")  # groups only pass through
+        self._run(("prop", index, *change))
+
+    @rule(data=st.data(), opacity=st.sampled_from([1.0, 0.5, 0.0]), parameters=PARAMETERS)
+    def add_group(self, data, opacity, parameters) -> None:
+        index = data.draw(st.integers(0, len(self.doc.layers)), "index")
+        self.names += 1
+        props = {"opacity": opacity, "parameters": parameters}
+        self._run(("add", index, f"G{self.names}", "group", None, props))
+
+    @precondition(lambda self: any(isinstance(la, GroupLayer) for la in self.doc.layers))
+    @rule(data=st.data(), leave=st.booleans())
+    def join_group(self, data, leave) -> None:
+        """Put a layer into a group above it (or take it out of its group)."""
+        layers = self.doc.layers
+        members = [i for i, layer in enumerate(layers) if layer.parent is not None]
+        if leave and members:
+            self._run(("join", data.draw(st.sampled_from(members), "member"), None))
+            return
+        groups = [g for g, layer in enumerate(layers) if isinstance(layer, GroupLayer)]
+        group = data.draw(st.sampled_from(groups), "group")
+        candidates = [i for i in range(group) if not self.doc.in_group(layers[group], layers[i].id)]
+        if candidates:
+            self._run(("join", data.draw(st.sampled_from(candidates), "layer"), group))
 
     @precondition(lambda self: any(isinstance(la, FilterLayer) for la in self.doc.layers))
     @rule(data=st.data(), new_filter=FILTERS)

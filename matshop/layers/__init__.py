@@ -6,7 +6,8 @@ Qt-free. Modules, one idea each:
 - :mod:`.tiles` — :class:`TileGrid`, sparse copy-on-write tile storage
 - :mod:`.blend` — blend modes in edit space (:data:`BLEND_MODES`)
 - :mod:`.filters` — which ops filter layers run and how far they reach
-- :mod:`.layer` — :class:`PaintLayer`, :class:`FillLayer`, :class:`FilterLayer`
+- :mod:`.layer` — :class:`PaintLayer`, :class:`FillLayer`, :class:`FilterLayer`,
+  :class:`GroupLayer`
 - :mod:`.cache`, :mod:`.compositor` — per-tile flatten and invalidation
 - :mod:`.reference` — the uncached whole-image flatten (the oracle)
 - :mod:`.events` — change notifications (:class:`DirtyRegion`)
@@ -30,7 +31,7 @@ from .edits import (
 from .events import DirtyRegion
 from .geometry import Rect, TileLayout
 from .history import History, HistoryReport
-from .layer import FillLayer, FilterLayer, Layer, PaintLayer
+from .layer import FillLayer, FilterLayer, GroupLayer, Layer, PaintLayer
 from .reference import flatten_reference
 from .tiles import TileGrid
 from .transaction import PaintTransaction
@@ -45,6 +46,7 @@ __all__ = [
     "Edit",
     "FillLayer",
     "FilterLayer",
+    "GroupLayer",
     "History",
     "HistoryReport",
     "Layer",

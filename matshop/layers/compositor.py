@@ -29,7 +29,7 @@ import numpy as np
 from .blend import blend, get_blend_mode, mean_of, weighted_mean
 from .cache import TileCache
 from .geometry import Rect, TileSet
-from .layer import FillLayer, FilterLayer, Layer, PaintLayer
+from .layer import FillLayer, FilterLayer, GroupLayer, Layer, PaintLayer
 
 if TYPE_CHECKING:
     from .document import Document
@@ -101,9 +101,26 @@ def filter_by_tile(
     return out
 
 
+def close_group(
+    doc: Document, group: GroupLayer, below: np.ndarray, block: np.ndarray, rect: Rect
+) -> None:
+    """End a pass-through group in place: ``block = lerp(below, block, opacity x mask)``.
+
+    ``below`` is the composite under the group's lowest member, ``block`` the
+    composite after its members; outside the group's parameters the members'
+    work is dropped (``below`` shows), like any layer limited to parameters.
+    """
+    if not doc.shows(group):
+        block[...] = below  # a hidden group hides its members
+        return
+    mixed = below.copy()
+    blend_into(group, doc.schema, mixed, block, group.alpha(rect), None)
+    block[...] = mixed
+
+
 def is_barrier(layer: Layer, doc: Document) -> bool:
     """A visible filter reading a neighbourhood: it gets a checkpoint cache."""
-    return isinstance(layer, FilterLayer) and layer.visible and layer.reach(doc.layout) != 0
+    return isinstance(layer, FilterLayer) and doc.shows(layer) and layer.reach(doc.layout) != 0
 
 
 class Compositor:
@@ -120,7 +137,7 @@ class Compositor:
 
     def through(self, layer: Layer, tiles: TileSet) -> TileSet:
         """Tiles of a layer's output that change when ``tiles`` of its input change."""
-        if not (isinstance(layer, FilterLayer) and layer.visible):
+        if not (isinstance(layer, FilterLayer) and self.doc.shows(layer)):
             return tiles
         reach = layer.reach(self.doc.layout)
         if reach is None:
@@ -183,7 +200,7 @@ class Compositor:
             return
         layout = self.doc.layout
         layer = self.doc.layers[count - 1]
-        if isinstance(layer, FilterLayer) and layer.visible and layer.reach(layout) is None:
+        if isinstance(layer, FilterLayer) and self.doc.shows(layer) and layer.reach(layout) is None:
             # a global filter costs the whole image whatever is asked: do it once
             cache.store(layout.bounds, self._compute(count, layout.bounds))
             return
@@ -200,8 +217,24 @@ class Compositor:
         while start > 0 and self._cache_at(start) is None:
             start -= 1
         block = self.background(rect) if start == 0 else self.composite(start, rect)
-        for layer in layers[start:count]:
-            self._apply(layer, block, rect)
+        # the input of each group that opens in this run, saved as the run passes it
+        opening = {}
+        for index in range(start, count):
+            if isinstance(layers[index], GroupLayer):
+                opening.setdefault(self.doc.group_start(index), []).append(index)
+        inputs: dict[int, np.ndarray] = {}
+        for index in range(start, count):
+            layer = layers[index]
+            if index in opening:
+                inputs[index] = block.copy()
+            if isinstance(layer, GroupLayer):
+                first = self.doc.group_start(index)
+                below = inputs.get(first)
+                if below is None:  # the group opened under this run's start: read the cache
+                    below = self.composite(first, rect)
+                close_group(self.doc, layer, below, block, rect)
+            else:
+                self._apply(layer, block, rect)
         return block
 
     def background(self, rect: Rect) -> np.ndarray:
@@ -209,7 +242,7 @@ class Compositor:
 
     def _apply(self, layer: Layer, block: np.ndarray, rect: Rect) -> None:
         """Blend a layer without neighbourhood onto ``block`` (covering ``rect``) in place."""
-        if not layer.visible:
+        if not self.doc.shows(layer):
             return
         schema = self.doc.schema
         uses_mean = get_blend_mode(layer.blend).uses_mean

@@ -15,7 +15,6 @@ invalid tiles and convert through ``from_edit`` once per tile.
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Iterator
 from typing import Any, Literal
 
@@ -26,7 +25,7 @@ from .compositor import Compositor
 from .events import DirtyRegion, DocumentEvents
 from .filters import bind_filter
 from .geometry import Rect, TileKey, TileLayout, TileSet
-from .layer import FillLayer, FilterLayer, Layer, PaintLayer
+from .layer import FillLayer, FilterLayer, GroupLayer, Layer, PaintLayer
 from .tiles import TileGrid, freeze
 
 #: Which tiles of a layer an edit addresses: its painted values or its mask.
@@ -70,7 +69,7 @@ class Document:
         )
         self.layers: list[Layer] = []
         self.events = DocumentEvents()
-        self._ids = itertools.count(1)
+        self._next_id = 1
         self._compositor = Compositor(self)
 
     @classmethod
@@ -115,11 +114,16 @@ class Document:
             layer.put(key, layer.validate(key, value, self.schema))
         return layer
 
+    def _new_id(self) -> int:
+        layer_id = self._next_id
+        self._next_id += 1
+        return layer_id
+
     def new_paint_layer(self, name: str | None = None, **props: Any) -> PaintLayer:
         """An empty paint layer (costs a dict and a fill vector until painted)."""
-        layer_id = next(self._ids)
+        layer_id = self._new_id()
         pixels = TileGrid(self.layout, self.channels + 1, 0.0)
-        layer = PaintLayer(layer_id, name or f"Paint {layer_id}", pixels=pixels)
+        layer = PaintLayer(layer_id, f"Paint {layer_id}" if name is None else name, pixels=pixels)
         return self._props(layer, props)  # type: ignore[return-value]
 
     def new_fill_layer(
@@ -133,8 +137,8 @@ class Document:
         """A fill layer with a constant edit ``value`` or an edit-space ``source`` texture."""
         if (value is None) == (source is None):
             raise ValueError("a fill layer needs exactly one of value= or source=")
-        layer_id = next(self._ids)
-        layer = FillLayer(layer_id, name or f"Fill {layer_id}")
+        layer_id = self._new_id()
+        layer = FillLayer(layer_id, f"Fill {layer_id}" if name is None else name)
         if value is not None:
             layer.put("value", layer.validate("value", value, self.schema))
         else:
@@ -154,8 +158,16 @@ class Document:
     ) -> FilterLayer:
         """A filter layer running registry op ``op`` with ``op_params`` (validated)."""
         spec, bound = bind_filter(op, op_params)
-        layer_id = next(self._ids)
-        layer = FilterLayer(layer_id, name or spec.label, op=op, op_params=bound)
+        layer_id = self._new_id()
+        layer = FilterLayer(
+            layer_id, spec.label if name is None else name, op=op, op_params=bound
+        )
+        return self._props(layer, props)  # type: ignore[return-value]
+
+    def new_group_layer(self, name: str | None = None, **props: Any) -> GroupLayer:
+        """An empty group; layers join it by ``parent`` (and sit just below it)."""
+        layer_id = self._new_id()
+        layer = GroupLayer(layer_id, f"Group {layer_id}" if name is None else name)
         return self._props(layer, props)  # type: ignore[return-value]
 
     def new_mask(self, fill: float = 1.0, array: np.ndarray | None = None) -> TileGrid:
@@ -182,6 +194,48 @@ class Document:
     def layer(self, layer_id: int) -> Layer:
         return self.layers[self.index_of(layer_id)]
 
+    def _parent_of(self, layer: Layer) -> GroupLayer | None:
+        if layer.parent is None:
+            return None
+        for other in self.layers:
+            if other.id == layer.parent:
+                return other if isinstance(other, GroupLayer) else None
+        return None  # its group was removed: the layer stands on its own
+
+    def shows(self, layer: Layer) -> bool:
+        """Visible, and so is every group it belongs to."""
+        seen = set()
+        current: Layer | None = layer
+        while current is not None and current.id not in seen:
+            if not current.visible:
+                return False
+            seen.add(current.id)
+            current = self._parent_of(current)
+        return True
+
+    def in_group(self, layer: Layer, group_id: int) -> bool:
+        """Whether ``layer`` belongs to group ``group_id``, directly or through nested groups."""
+        seen = set()
+        current = self._parent_of(layer)
+        while current is not None and current.id not in seen:
+            if current.id == group_id:
+                return True
+            seen.add(current.id)
+            current = self._parent_of(current)
+        return False
+
+    def group_start(self, index: int) -> int:
+        """Index of the lowest member of the group at ``index`` (``index`` when it has none).
+
+        The group mixes everything from there up to itself with its input.
+        """
+        group = self.layers[index]
+        start = index
+        for below in range(index - 1, -1, -1):
+            if self.in_group(self.layers[below], group.id):
+                start = below
+        return start
+
     def grid(self, layer_id: int, target: Target) -> TileGrid:
         """The tile grid an edit on ``target`` of a layer addresses."""
         layer = self.layer(layer_id)
@@ -201,6 +255,24 @@ class Document:
             return layer.pixels.present()
         return self.layout.all_tiles()
 
+    def _regroups(self, layer: Layer) -> bool:
+        """Whether adding, removing or moving ``layer`` can change group membership."""
+        return isinstance(layer, GroupLayer) or layer.parent is not None
+
+    def _restructured(self) -> TileSet:
+        """Drop every cache (group structure changed; rare, never per dab); all tiles dirty."""
+        self._compositor.invalidate_all()
+        return self.layout.all_tiles()
+
+    def _check_parent(self, layer: Layer, parent: int | None) -> None:
+        if parent is None:
+            return
+        group = next((other for other in self.layers if other.id == parent), None)
+        if not isinstance(group, GroupLayer):
+            raise ValueError(f"parent {parent} is not a group layer of this document")
+        if parent == layer.id or self.in_group(group, layer.id):
+            raise ValueError(f"layer {layer.name!r} cannot belong to itself")
+
     def _emit_dirty(self, tiles: TileSet) -> None:
         if tiles.any():
             self.events.dirty.emit(DirtyRegion(self.layout, tiles.copy()))
@@ -216,9 +288,14 @@ class Document:
         if not 0 <= index <= len(self.layers):
             raise IndexError(f"layer index {index} outside 0..{len(self.layers)}")
         self.layers.insert(index, layer)
+        # a layer made elsewhere (a loaded project) keeps its id; new ones follow it
+        self._next_id = max(self._next_id, layer.id + 1)
         self._compositor.drop_checkpoint(layer.id)
-        tiles = self._extent(layer) if layer.visible else self.layout.no_tiles()
-        dirty = self._compositor.output_changed(index, tiles)
+        if self._regroups(layer):
+            dirty = self._restructured()
+        else:
+            tiles = self._extent(layer) if self.shows(layer) else self.layout.no_tiles()
+            dirty = self._compositor.output_changed(index, tiles)
         self.events.layers.emit("insert", layer.id, index)
         self._emit_dirty(dirty)
         return index
@@ -226,10 +303,15 @@ class Document:
     def remove_layer(self, layer_id: int) -> tuple[Layer, int]:
         """Take a layer out of the stack; returns it and where it was."""
         index = self.index_of(layer_id)
-        layer = self.layers.pop(index)
+        layer = self.layers[index]
+        shown = self.shows(layer)
+        self.layers.pop(index)
         self._compositor.drop_checkpoint(layer_id)
-        tiles = self._extent(layer) if layer.visible else self.layout.no_tiles()
-        dirty = self._compositor.input_changed(index, tiles)
+        if self._regroups(layer):
+            dirty = self._restructured()
+        else:
+            tiles = self._extent(layer) if shown else self.layout.no_tiles()
+            dirty = self._compositor.input_changed(index, tiles)
         self.events.layers.emit("remove", layer_id, index)
         self._emit_dirty(dirty)
         return layer, index
@@ -243,9 +325,12 @@ class Document:
             return old
         layer = self.layers.pop(old)
         self.layers.insert(index, layer)
-        # every composite from the lower position up differs where the layer acts
-        tiles = self._extent(layer) if layer.visible else self.layout.no_tiles()
-        dirty = self._compositor.input_changed(min(old, index), tiles)
+        if self._regroups(layer):
+            dirty = self._restructured()
+        else:
+            # every composite from the lower position up differs where the layer acts
+            tiles = self._extent(layer) if self.shows(layer) else self.layout.no_tiles()
+            dirty = self._compositor.input_changed(min(old, index), tiles)
         self.events.layers.emit("move", layer_id, index)
         self._emit_dirty(dirty)
         return old
@@ -255,13 +340,18 @@ class Document:
         index = self.index_of(layer_id)
         layer = self.layers[index]
         value = layer.validate(name, value, self.schema)
+        if name == "parent":
+            self._check_parent(layer, value)
         old = layer.get(name)
-        was_visible = layer.visible
+        was_shown = self.shows(layer)
         layer.put(name, value)
-        if name != "name":
+        if name == "parent" or (name == "visible" and isinstance(layer, GroupLayer)):
+            # membership and a group's visibility change what its members show
+            self._emit_dirty(self._restructured())
+        elif name != "name":
             if isinstance(layer, FilterLayer):
                 self._compositor.drop_checkpoint(layer_id)
-            if was_visible or layer.visible:
+            if was_shown or self.shows(layer):
                 self._emit_dirty(self._compositor.output_changed(index, self._extent(layer)))
         self.events.layer.emit(layer_id, name)
         return old
@@ -274,7 +364,7 @@ class Document:
             raise ValueError("a mask is a one-channel tile grid of this document's layout")
         old = layer.mask
         layer.mask = mask
-        if layer.visible:
+        if self.shows(layer):
             self._emit_dirty(self._compositor.output_changed(index, self._extent(layer)))
         self.events.layer.emit(layer_id, "mask")
         return old
@@ -297,7 +387,7 @@ class Document:
         if target == "pixels" and isinstance(layer, PaintLayer):
             layer.version += 1  # the cached mean is stale
         self.events.content.emit(layer_id, target, tiles)
-        if not layer.visible:
+        if not self.shows(layer):
             return
         if target == "pixels":
             from .blend import get_blend_mode

@@ -13,6 +13,11 @@ edit values ``L`` and coverage come from:
 - :class:`FilterLayer`: an op from the registry applied to the composite
   below (non-destructive blur, curves, levels, scale...); ``L`` is the op's
   result, coverage 1.
+- :class:`GroupLayer`: a pass-through group. Its members (layers whose
+  ``parent`` is the group) sit just below it in the stack; they composite as
+  usual, then the group mixes the result with the composite below its lowest
+  member by its opacity and mask, only in its parameters. Hiding the group
+  hides its members.
 
 Layers are plain state. They are changed only through the document (which
 invalidates caches and notifies) and, for undo, through edits; nothing here
@@ -49,6 +54,8 @@ class Layer:
     #: one-channel tiled mask in [0, 1] (1 shows the layer), or None
     mask: TileGrid | None = None
     mask_inverted: bool = False
+    #: id of the group layer this layer belongs to, or None
+    parent: int | None = None
 
     kind: ClassVar[str] = "layer"
     #: properties :meth:`Document.set_property` may change
@@ -59,6 +66,7 @@ class Layer:
         "blend",
         "parameters",
         "mask_inverted",
+        "parent",
     )
 
     def validate(self, name: str, value: Any, schema: Schema) -> Any:
@@ -80,6 +88,12 @@ class Layer:
             return get_blend_mode(value).name
         if name == "parameters":
             return _normalise_parameters(value, schema)
+        if name == "parent":  # the document checks that it names a group
+            if value is None:
+                return None
+            if isinstance(value, bool) or not isinstance(value, int | np.integer):
+                raise ValueError(f"parent must be a group layer id or None, got {value!r}")
+            return int(value)
         raise AssertionError(name)  # pragma: no cover - PROPERTIES and branches agree
 
     def get(self, name: str) -> Any:
@@ -132,6 +146,7 @@ class Layer:
             "parameters": self.parameters,
             "mask": self.mask is not None,
             "mask_inverted": self.mask_inverted,
+            "parent": self.parent,
         }
 
 
@@ -341,3 +356,20 @@ class FilterLayer(Layer):
         info["op"] = self.op
         info["op_params"] = dict(self.op_params)
         return info
+
+
+@dataclass(eq=False)
+class GroupLayer(Layer):
+    """A pass-through group of the layers whose ``parent`` is this layer's id.
+
+    It has no content of its own: ``out = lerp(input, members, opacity x mask)``
+    in its parameters, where ``input`` is the composite below its lowest
+    member and ``members`` the composite just below the group.
+    """
+
+    kind: ClassVar[str] = "group"
+
+    def validate(self, name: str, value: Any, schema: Schema) -> Any:
+        if name == "blend" and get_blend_mode(value).name != "normal":
+            raise ValueError("a group passes its layers through: its blend mode is normal")
+        return super().validate(name, value, schema)

@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .blend import get_blend_mode, mean_of, weighted_mean
-from .compositor import blend_into, filter_by_tile
-from .layer import FillLayer, FilterLayer, PaintLayer
+from .compositor import blend_into, close_group, filter_by_tile
+from .layer import FillLayer, FilterLayer, GroupLayer, PaintLayer
 
 if TYPE_CHECKING:
     from .document import Document
@@ -28,8 +28,19 @@ def flatten_reference(doc: Document) -> np.ndarray:
     bounds = doc.layout.bounds
     schema = doc.schema
     image = np.tile(doc.background, (bounds.height, bounds.width, 1))
-    for layer in doc.layers:
-        if not layer.visible:
+    # the composite under each group's lowest member, kept until the group closes
+    group_inputs: dict[int, list[np.ndarray]] = {}
+    starts = {}
+    for index, layer in enumerate(doc.layers):
+        if isinstance(layer, GroupLayer):
+            starts.setdefault(doc.group_start(index), []).append(index)
+    for index, layer in enumerate(doc.layers):
+        for group_index in starts.get(index, ()):
+            group_inputs[group_index] = image.copy()
+        if isinstance(layer, GroupLayer):
+            close_group(doc, layer, group_inputs.pop(index), image, bounds)
+            continue
+        if not doc.shows(layer):
             continue
         uses_mean = get_blend_mode(layer.blend).uses_mean
         if isinstance(layer, FilterLayer):
