@@ -162,6 +162,8 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
     try:
         if args.kind == "paint":
             layer = doc.new_paint_layer(args.name, **props)
+        elif args.kind == "group":
+            layer = doc.new_group_layer(args.name, **props)
         elif args.kind == "fill":
             if bool(args.value) == (args.source is not None):
                 raise MatshopError("a fill layer needs --value PARAM=V... or --from TEXTURE_SET")
@@ -184,9 +186,18 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
             layer.put("parameters", layer.validate("parameters", parameters, doc.schema))
     except ValueError as exc:
         raise MatshopError(str(exc), args.project) from None
-    if args.index is not None and not 0 <= args.index <= len(doc):
+    index = args.index
+    if args.group is not None:
+        group = find_layer(doc, args.group, args.project)
+        if group.kind != "group":
+            raise MatshopError(f"layer {group.name!r} is not a group", args.project)
+        if index is not None:
+            raise MatshopError("give --index or --group, not both")
+        layer.put("parent", group.id)
+        index = doc.index_of(group.id)  # members sit just below their group
+    if index is not None and not 0 <= index <= len(doc):
         raise MatshopError(f"--index must be 0 to {len(doc)}", args.project)
-    history.push(AddLayer(layer, args.index))
+    history.push(AddLayer(layer, index))
     if args.mask is not None:
         from .api import load_mask
 
@@ -207,6 +218,8 @@ def cmd_layer_list(args: argparse.Namespace) -> int:
             facts.append("affects " + ",".join(layer.parameters))
         if layer.mask is not None:
             facts.append("inverted mask" if layer.mask_inverted else "mask")
+        if layer.parent is not None:
+            facts.append(f"in group {layer.parent}")
         if isinstance(layer, PaintLayer):
             facts.append(f"{len(list(layer.pixels.keys()))} painted tiles")
         print(f"  {index:2d}  id {layer.id:<3d} {layer.name!r}: {', '.join(facts)}")

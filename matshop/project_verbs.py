@@ -45,19 +45,20 @@ def add_parsers(verbs: Any) -> None:
     actions = layer.add_subparsers(dest="layer_action", metavar="ACTION", required=True)
     add = actions.add_parser(
         "add",
-        help="add a paint, fill or filter layer on top (or at --index)",
+        help="add a paint, fill, filter or group layer on top (or at --index, or into --group)",
         epilog="examples: layer add p.matshop fill --value base_color=0.6,0.25,0.1 "
         "--value roughness=0.8 | layer add p.matshop fill --from rust/ --mask m.png | "
         "layer add p.matshop filter --op bilateral sigma_px=6 | layer add p.matshop paint",
     )
     add.add_argument("project", type=Path, metavar="PROJECT")
-    add.add_argument("kind", choices=("paint", "fill", "filter"))
+    add.add_argument("kind", choices=("paint", "fill", "filter", "group"))
     add.add_argument("--name")
     add.add_argument("--opacity", type=float)
     add.add_argument("--blend", help="normal, add, subtract, multiply or detail")
     add.add_argument("--params", help="parameters the layer affects (default: all)")
     add.add_argument("--hidden", action="store_true", help="add it hidden")
     add.add_argument("--index", type=int, help="stack position (0 = bottom; default: top)")
+    add.add_argument("--group", help="put it into this group (just below the group layer)")
     add.add_argument(
         "--value",
         action="append",

@@ -208,3 +208,20 @@ def test_bad_stroke_files_name_the_file_and_paint_nothing(
     err = capfd.readouterr().err.strip().splitlines()
     assert len(err) == 1 and expected in err[0] and "bad.json" in err[0], err
     assert project.read_bytes() == before
+
+
+def test_a_group_made_on_the_command_line_mixes_its_members(project: Path) -> None:
+    below = load_project(project).document.physical()["roughness"]
+    assert run("layer", "add", project, "group", "--name", "G", "--opacity", "0.5") == 0
+    assert run("layer", "add", project, "fill", "--value", "roughness=0.1", "--group", "G") == 0
+    doc = load_project(project).document
+    assert [layer.kind for layer in doc.layers] == ["fill", "fill", "group"]
+    assert doc.layers[1].parent == doc.layers[2].id
+    # half of the way from the original roughness to 0.1, in the GGX edit space
+    roughness = doc.schema["roughness"].space
+    expected = roughness.from_edit(
+        0.5 * (roughness.to_edit(below) + roughness.to_edit(np.full_like(below, 0.1)))
+    )
+    assert np.allclose(doc.physical()["roughness"], expected, atol=1e-5)
+    assert run("layer", "set", project, "G", "visible=false") == 0
+    assert np.array_equal(load_project(project).document.physical()["roughness"], below)
