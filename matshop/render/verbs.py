@@ -1,0 +1,208 @@
+"""``matshop render`` and ``matshop figures``.
+
+``add_parsers`` imports only the standard library so ``matshop --help`` stays
+fast; ``run`` imports the renderer.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+VERB_MODULE = "matshop.render.verbs"
+
+
+def add_parsers(verbs: Any) -> None:
+    render = verbs.add_parser(
+        "render",
+        help="render a texture set on a sphere, a swatch or a mesh (PNG)",
+        description="Render the texture set IN with the reference renderer (microfacet "
+        "BRDF with the set's lobe, normal/tangent frames, SubEdit subsurface when the "
+        "set has profiles) under an HDR environment and write a tone-mapped sRGB image.",
+        epilog="examples: matshop render rock/ rock.png --size 512 | "
+        "matshop render rock/ swatch.png --scene swatch | "
+        "matshop render rock/ m.png --scene mesh.obj --env sky.exr --light=-1,1,1:3 "
+        "(a leading minus needs the = form)",
+    )
+    render.add_argument("input", type=Path, metavar="IN", help="texture folder or one map")
+    render.add_argument("output", type=Path, metavar="OUT", help="output image (.png, .exr, ...)")
+    render.add_argument(
+        "--scene", default="sphere", help="sphere (default), swatch, or a path to an .obj mesh"
+    )
+    render.add_argument(
+        "--env",
+        default="studio",
+        help="studio (default), sky, uniform, or an equirectangular .hdr/.exr file",
+    )
+    render.add_argument("--size", type=int, default=512, help="image size in pixels (512)")
+    render.add_argument(
+        "--samples", type=int, default=32, help="environment samples per pixel (32)"
+    )
+    render.add_argument("--exposure", type=float, default=0.0, help="exposure in stops (0)")
+    render.add_argument(
+        "--tonemap", choices=("aces", "linear"), default="aces", help="tone curve (aces)"
+    )
+    render.add_argument(
+        "--light",
+        action="append",
+        default=[],
+        metavar="X,Y,Z[:E]",
+        help="a directional light towards X,Y,Z (camera on +z, y up) with irradiance E "
+        "(one value or R,G,B; default 3); repeatable",
+    )
+    render.add_argument(
+        "--no-env", action="store_true", help="directional lights only (no environment light)"
+    )
+    render.add_argument(
+        "--background",
+        default="environment",
+        help="environment (default), transparent, or R,G,B linear radiance",
+    )
+    render.add_argument(
+        "--tiles", type=float, help="texture repeats (sphere: around the equator; default 2)"
+    )
+    render.add_argument("--force", action="store_true", help="overwrite an existing image")
+    render.add_argument(
+        "--space", action="append", default=[], metavar="PARAM=SPACE", help=argparse.SUPPRESS
+    )
+    render.add_argument(
+        "--normal-convention",
+        choices=("opengl", "directx"),
+        help="green channel convention of the normal map (default: from the file name, "
+        "else guessed)",
+    )
+    render.set_defaults(verb_module=VERB_MODULE)
+
+    figures = verbs.add_parser(
+        "figures",
+        help="reproduce the seed paper's figures with their measurements",
+        description="Render the seed paper's figures (interpolation strips, analytic fits, "
+        "frame blur and unsharp masking, distribution and profile plots, an op gallery) "
+        "into OUTDIR as PNGs, and print the measurement each one makes its point with.",
+    )
+    figures.add_argument("outdir", type=Path, metavar="OUTDIR")
+    figures.add_argument(
+        "--only", help="comma-separated figure names (e.g. fig3,fig5); default: all"
+    )
+    figures.add_argument(
+        "--data",
+        type=Path,
+        help="texture set for the gallery (default: ../shared/data/chessboard if present, "
+        "else the bundled sample)",
+    )
+    figures.set_defaults(verb_module=VERB_MODULE)
+
+
+def _floats(text: str, what: str) -> list[float]:
+    from ..errors import MatshopError
+
+    try:
+        return [float(v) for v in text.split(",")]
+    except ValueError:
+        raise MatshopError(f"{what} expects comma-separated numbers, got {text!r}") from None
+
+
+def parse_light(text: str):
+    """``X,Y,Z[:E]`` or ``X,Y,Z:R,G,B`` -> DirectionalLight."""
+    from ..errors import MatshopError
+    from .integrator import DirectionalLight
+
+    direction, _, energy = text.partition(":")
+    xyz = _floats(direction, "--light")
+    if len(xyz) != 3 or not any(xyz):
+        raise MatshopError(f"--light needs a non-zero direction X,Y,Z, got {direction!r}")
+    e = _floats(energy, "--light") if energy else [3.0]
+    if len(e) not in (1, 3) or min(e) < 0:
+        raise MatshopError(
+            f"--light irradiance must be one or three non-negative values, got {energy!r}"
+        )
+    return DirectionalLight(tuple(xyz), tuple(e * 3 if len(e) == 1 else e))
+
+
+def _cmd_render(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..cli import _parse_spaces
+    from ..errors import MatshopError
+    from ..io.images import write_image
+    from ..io.material_io import load_material
+    from ..progress import progress_bar
+    from .render import render
+
+    if args.output.exists() and not args.force:
+        raise MatshopError("exists (use --force to overwrite)", args.output)
+    if args.size < 1 or args.size > 8192:
+        raise MatshopError(f"--size must be in 1..8192, got {args.size}")
+    if args.samples < 1 or args.samples > 4096:
+        raise MatshopError(f"--samples must be in 1..4096, got {args.samples}")
+    scene = args.scene
+    if scene not in ("sphere", "swatch"):
+        if not Path(scene).is_file():
+            raise MatshopError("no such mesh (use sphere, swatch or an .obj file)", scene)
+    lights = tuple(parse_light(t) for t in args.light)
+    if args.no_env and not lights:
+        raise MatshopError("--no-env needs at least one --light")
+    background: Any = args.background
+    transparent = background == "transparent"
+    if transparent:
+        background = (0.0, 0.0, 0.0)
+    elif background != "environment":
+        rgb = _floats(background, "--background")
+        if len(rgb) != 3:
+            raise MatshopError(f"--background expects R,G,B, got {args.background!r}")
+        background = tuple(rgb)
+    options = {}
+    if args.tiles is not None:
+        if args.tiles <= 0:
+            raise MatshopError(f"--tiles must be positive, got {args.tiles}")
+        # a sphere is twice as long around as from pole to pole
+        options["tiles"] = (args.tiles, args.tiles / 2.0) if scene == "sphere" else args.tiles
+    material, _ = load_material(
+        args.input, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
+    )
+    with progress_bar(f"render {args.size}x{args.size}") as report:
+        image = render(
+            material,
+            scene=scene,
+            size=args.size,
+            environment=None if args.no_env else args.env,
+            environment_scale=0.0 if args.no_env else 1.0,
+            lights=lights,
+            samples=args.samples,
+            background=background,
+            progress=report,
+            scene_options=options,
+        )
+    suffix = args.output.suffix.lower()
+    if suffix in (".exr", ".hdr"):
+        pixels = np.concatenate([image.radiance, image.alpha[..., None]], axis=2)
+        write_image(args.output, pixels if transparent else image.radiance, bit_depth="float")
+    else:
+        pixels = image.display(exposure=args.exposure, tonemap=args.tonemap)
+        write_image(args.output, pixels if transparent else pixels[..., :3])
+    covered = image.radiance[image.alpha > 0]
+    mean = covered.mean(axis=0) if covered.size else np.zeros(3)
+    print(
+        f"{args.output}: {args.size}x{args.size} {args.scene}, "
+        f"env {'none' if args.no_env else args.env},"
+        f" {len(lights)} light(s); mean linear radiance on the object "
+        f"{mean[0]:.3f} {mean[1]:.3f} {mean[2]:.3f}"
+    )
+    return 0
+
+
+def _cmd_figures(args: argparse.Namespace) -> int:
+    from .figures import make_figures
+
+    only = [name.strip() for name in args.only.split(",")] if args.only else None
+    results = make_figures(args.outdir, only=only, data=args.data)
+    for result in results:
+        print(f"{result.name}: {result.path.name}: {result.measurement}")
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.verb == "render":
+        return _cmd_render(args)
+    return _cmd_figures(args)
