@@ -14,8 +14,10 @@ Measured:
 
 - full flatten: every cache dropped, then flatten to edit space and
   ``from_edit`` of every tile (what an export or the first display costs);
-- dab update: one soft dab of radius 64 px on a paint layer, then the same
-  update of just the dirty tiles; p50/p95 over ``--dabs`` dabs, as a ratio to
+- dab update: one soft dab of radius 64 px on a paint layer, painted by the
+  brush engine (a one-sample stroke of :class:`matshop.paint.StrokeSession`
+  with a material swatch, one undo step), then the update of just the dirty
+  tiles; p50/p95 over ``--dabs`` dabs, as a ratio to
   the full flatten (issue [C] asks for <= 1%), on a layer above the blur and
   on one below it (whose dab the blur spreads to neighbouring tiles);
 - memory: bytes of an empty layer, of the layer payloads, caches and history,
@@ -43,6 +45,7 @@ from matshop.layers import (
     flatten_reference,
 )
 from matshop.material import EditMaterial, Schema
+from matshop.paint import Brush, StrokeSample, StrokeSession, Swatch
 
 CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
 RADIUS = 64
@@ -67,20 +70,22 @@ def base_material(size: int) -> tuple[EditMaterial, str]:
     return EditMaterial("synthetic", schema, data), "synthetic (chessboard absent)"
 
 
-def disc(radius: int, hardness: float = 0.5) -> np.ndarray:
-    """A soft round dab: 1 inside ``hardness * radius``, falling to 0 at ``radius``."""
-    ys, xs = np.mgrid[-radius : radius + 1, -radius : radius + 1]
-    r = np.hypot(ys, xs) / radius
-    ramp = np.clip((1.0 - r) / (1.0 - hardness), 0.0, 1.0)
-    return (ramp * ramp * (3 - 2 * ramp)).astype(np.float32)  # smoothstep
+BRUSH = Brush(radius_px=RADIUS, hardness=0.5)
 
 
-def paint_dab(doc: Document, history: History, layer_id: int, x: int, y: int, value) -> None:
-    alpha = disc(RADIUS)
-    rect = Rect(x - RADIUS, y - RADIUS, x + RADIUS + 1, y + RADIUS + 1)
-    tx = PaintTransaction(doc, layer_id, label="Dab")
-    tx.paint(rect, value, alpha)
-    history.push(tx.commit(), applied=True)
+def swatch_of(schema: Schema, edit_vector: np.ndarray, name: str) -> Swatch:
+    """The physical values of one edit vector, as a brush swatch."""
+    values = {}
+    for param in schema.parameters:
+        edit = edit_vector[schema.edit_slices[param.name]].reshape(1, 1, -1)
+        values[param.name] = param.space.from_edit(edit).reshape(-1)
+    return Swatch(name, values)
+
+
+def paint_dab(doc: Document, history: History, layer_id: int, x: int, y: int, swatch) -> None:
+    stroke = StrokeSession(doc, layer_id, BRUSH, swatch=swatch, history=history, label="Dab")
+    stroke.add([StrokeSample(x + 0.5, y + 0.5)])
+    stroke.end()
 
 
 def build(size: int, layers: int, tile: int, seed: int = 1):
@@ -89,7 +94,8 @@ def build(size: int, layers: int, tile: int, seed: int = 1):
     history = History(doc)
     history.push(AddLayer(doc.new_fill_layer("base", source=base.data)))
     rng = np.random.default_rng(seed)
-    swatches = base.data[rng.integers(0, size, 32), rng.integers(0, size, 32)]
+    picked = base.data[rng.integers(0, size, 32), rng.integers(0, size, 32)]
+    swatches = [swatch_of(base.schema, vector, f"swatch {i}") for i, vector in enumerate(picked)]
     paint_ids = []
     fixed = 4  # base, rust fill, blur, levels
     blur_at = 1 + (layers - fixed) // 2
@@ -103,7 +109,7 @@ def build(size: int, layers: int, tile: int, seed: int = 1):
         for _ in range(6):
             x, y = rng.integers(0, size, 2)
             paint_dab(doc, history, layer.id, int(x), int(y), swatches[rng.integers(32)])
-    rust = doc.new_fill_layer("rust", value=swatches[0], opacity=0.4, parameters=["base_color"])
+    rust = doc.new_fill_layer("rust", value=picked[0], opacity=0.4, parameters=["base_color"])
     history.push(AddLayer(rust))
     history.push(SetMask(rust.id, doc.new_mask(0.0)))
     tx = PaintTransaction(doc, rust.id, "mask")
