@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from .errors import MatshopError
-from .io.project import load_project, save_project
+from .io.project import find_recovery, load_project, save_project
 from .layers import AddLayer, Document, History, Layer, RemoveLayer, SetMask, SetProperty
 from .layers.layer import PaintLayer
 from .material import Schema
@@ -30,6 +31,7 @@ def run(args: argparse.Namespace) -> int:
         "layer-remove": cmd_layer_remove,
         "paint": cmd_paint,
         "flatten": cmd_flatten,
+        "recover": cmd_recover,
     }
     return handlers[args.action](args)
 
@@ -75,7 +77,24 @@ def cmd_new(args: argparse.Namespace) -> int:
 
 def _open(path: Path) -> tuple[Document, History, dict]:
     project = load_project(path)
+    recovery = find_recovery(path)
+    if recovery is not None:
+        print(
+            f"matshop: note: {path} has a newer autosave ({recovery.name}); "
+            f"`matshop recover {path}` restores it",
+            file=sys.stderr,
+        )
     return project.document, History(project.document), project.settings
+
+
+def cmd_recover(args: argparse.Namespace) -> int:
+    recovery = find_recovery(args.project)
+    if recovery is None:
+        raise MatshopError("has no autosave newer than itself", args.project)
+    project = load_project(recovery)  # a damaged autosave fails here, the project untouched
+    save_project(project.document, args.project, settings=project.settings)  # discards it
+    print(f"restored {args.project} from {recovery.name}")
+    return 0
 
 
 def find_layer(doc: Document, key: str | int, path: Path | None = None) -> Layer:

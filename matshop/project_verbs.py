@@ -104,6 +104,15 @@ def add_parsers(verbs: Any) -> None:
     paint.add_argument("--layer", help="layer for strokes that name none (default: top paint)")
     paint.set_defaults(verb_module=VERB_MODULE, action="paint")
 
+    recover = verbs.add_parser(
+        "recover",
+        help="restore a project from its autosave (recovery) file",
+        description="If PROJECT has an autosave newer than itself (the editor writes "
+        "one while you work), replace the project with it, atomically.",
+    )
+    recover.add_argument("project", type=Path, metavar="PROJECT")
+    recover.set_defaults(verb_module=VERB_MODULE, action="recover")
+
     flatten = verbs.add_parser(
         "flatten",
         help="flatten a project and write it as a texture set",

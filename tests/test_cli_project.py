@@ -225,3 +225,22 @@ def test_a_group_made_on_the_command_line_mixes_its_members(project: Path) -> No
     assert np.allclose(doc.physical()["roughness"], expected, atol=1e-5)
     assert run("layer", "set", project, "G", "visible=false") == 0
     assert np.array_equal(load_project(project).document.physical()["roughness"], below)
+
+
+def test_recover_restores_a_newer_autosave_and_the_verbs_mention_it(
+    project: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    from matshop.io.project import find_recovery, write_recovery
+
+    doc = load_project(project).document
+    doc.insert_layer(doc.new_paint_layer("unsaved work"))
+    write_recovery(doc, project)
+    capfd.readouterr()
+    assert run("layer", "list", project) == 0
+    assert "matshop recover" in capfd.readouterr().err
+    assert run("recover", project) == 0
+    assert [layer.name for layer in load_project(project).document.layers][-1] == "unsaved work"
+    assert find_recovery(project) is None
+    capfd.readouterr()
+    assert run("recover", project) == 2
+    assert "no autosave" in capfd.readouterr().err
