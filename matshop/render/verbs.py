@@ -25,7 +25,12 @@ def add_parsers(verbs: Any) -> None:
         "matshop render rock/ m.png --scene mesh.obj --env sky.exr --light=-1,1,1:3 "
         "(a leading minus needs the = form)",
     )
-    render.add_argument("input", type=Path, metavar="IN", help="texture folder or one map")
+    render.add_argument(
+        "input",
+        type=Path,
+        metavar="IN",
+        help="texture folder, one map, or a .matshop project (flattened)",
+    )
     render.add_argument("output", type=Path, metavar="OUT", help="output image (.png, .exr, ...)")
     render.add_argument(
         "--scene", default="sphere", help="sphere (default), swatch, or a path to an .obj mesh"
@@ -126,7 +131,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
     from ..cli import _parse_spaces
     from ..errors import MatshopError
     from ..io.images import write_image
-    from ..io.material_io import load_material
+    from ..io.inputs import load_flattened
     from ..progress import progress_bar
     from .render import render
 
@@ -158,7 +163,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
             raise MatshopError(f"--tiles must be positive, got {args.tiles}")
         # a sphere is twice as long around as from pole to pole
         options["tiles"] = (args.tiles, args.tiles / 2.0) if scene == "sphere" else args.tiles
-    material, _ = load_material(
+    material = load_flattened(
         args.input, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
     )
     with progress_bar(f"render {args.size}x{args.size}") as report:
