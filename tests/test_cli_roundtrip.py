@@ -110,3 +110,15 @@ def test_demo_runs_on_the_bundled_sample(tmp_path: Path) -> None:
     assert "worst error" in result.stdout
     assert (tmp_path / "roundtrip" / "tiles_basecolor.png").exists()
     assert (tmp_path / "sampled" / "tiles_distribution.exr").exists()
+    # the layered part: the project flattens to what the demo wrote
+    from matshop.io.material_io import load_material
+    from matshop.io.project import load_project
+
+    doc = load_project(tmp_path / "layered.matshop").document
+    assert [layer.name for layer in doc.layers] == ["Base", "Bronze", "Rust"]
+    written, _ = load_material(tmp_path / "layered")
+    for name, values in doc.physical().items():
+        # one 8-bit code; normals store n = 2 v - 1 (two units per code) and are renormalised
+        step = 2.5 / 255 if name == "normal" else 1 / 255 + 1e-6
+        assert np.abs(written.maps[name] - values).max() <= step, name
+    assert (tmp_path / "layered_ball.png").stat().st_size > 10_000
