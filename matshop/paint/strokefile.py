@@ -21,12 +21,12 @@ texels from the top-left corner; pressure defaults to 1.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ..errors import MatshopError
+from ..io.jsonfile import read_json
 from .brush import Brush
 from .pressure import PressureCurve
 from .stroke import StrokeSample
@@ -125,12 +125,7 @@ def parse_stroke(data: Any) -> StrokeSpec:
 def load_strokes(path: str | Path) -> list[StrokeSpec]:
     """Read a stroke file; anything wrong is one :class:`MatshopError` naming the file."""
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise MatshopError("file not found", path) from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise MatshopError(f"not a stroke file ({exc})", path) from None
+    data = read_json(path, "stroke file")
     if isinstance(data, dict) and "strokes" in data:
         data = data["strokes"]
     items = data if isinstance(data, list) else [data]

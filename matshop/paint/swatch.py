@@ -18,6 +18,7 @@ import numpy as np
 
 from ..errors import MatshopError
 from ..io.atomic import atomic_target
+from ..io.jsonfile import read_json
 from ..material import Schema
 
 LIBRARY_FORMAT = "matshop-swatches"
@@ -110,12 +111,7 @@ def save_swatches(path: str | Path, swatches: Sequence[Swatch]) -> None:
 def load_swatches(path: str | Path) -> list[Swatch]:
     """Read a swatch library; a bad file is one clear error naming it."""
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise MatshopError("file not found", path) from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise MatshopError(f"not a swatch library ({exc.__class__.__name__})", path) from None
+    data = read_json(path, "swatch library")
     if not isinstance(data, dict) or data.get("format") != LIBRARY_FORMAT:
         raise MatshopError(f'not a swatch library (no "format": "{LIBRARY_FORMAT}")', path)
     version = data.get("version")
