@@ -1,0 +1,19 @@
+"""The desktop editor (Qt): main window, panels, menus, files, settings.
+
+``from matshop.app import MainWindow`` imports Qt; importing the package
+itself does not (``matshop.app.verbs`` is loaded by ``matshop --help``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["MainWindow"]
+
+
+def __getattr__(name: str) -> Any:
+    if name == "MainWindow":
+        from .main_window import MainWindow
+
+        return MainWindow
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

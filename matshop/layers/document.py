@@ -159,9 +159,7 @@ class Document:
         """A filter layer running registry op ``op`` with ``op_params`` (validated)."""
         spec, bound = bind_filter(op, op_params)
         layer_id = self._new_id()
-        layer = FilterLayer(
-            layer_id, spec.label if name is None else name, op=op, op_params=bound
-        )
+        layer = FilterLayer(layer_id, spec.label if name is None else name, op=op, op_params=bound)
         return self._props(layer, props)  # type: ignore[return-value]
 
     def new_group_layer(self, name: str | None = None, **props: Any) -> GroupLayer:

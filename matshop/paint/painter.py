@@ -167,10 +167,15 @@ class StrokeSession:
         x0, y0, footprint = dab_footprint(dab.x, dab.y, dab.radius_px, self.brush.hardness)
         height, width = footprint.shape
         for rect, where in footprint_pieces(x0, y0, height, width, self.doc, self.wrap):
-            self._stamp_piece(rect, np.float32(dab.flow) * footprint[where])
+            self.stamp_alpha(rect, np.float32(dab.flow) * footprint[where])
         self.dabs += 1
 
-    def _stamp_piece(self, rect: Rect, alpha: np.ndarray) -> None:
+    def stamp_alpha(self, rect: Rect, alpha: np.ndarray) -> None:
+        """Add one dab's alpha ``(h, w)`` over ``rect`` (inside the image) to the stroke.
+
+        :meth:`add` places round dabs in texture space; painting on a mesh
+        computes its own footprints (a ball on the surface) and stamps them here.
+        """
         block = self._buffer.read(rect)
         stroke_alpha = block[..., -1]
         new_alpha = alpha + stroke_alpha * (np.float32(1.0) - alpha)

@@ -1,0 +1,238 @@
+"""Opening, saving, autosaving and closing documents.
+
+A failed open or save shows the engine's one-line MatshopError in a message
+box and leaves the current document exactly as it was (the new file is read
+completely before anything is replaced). Autosave writes a recovery file on
+a timer: beside the project (``io.recovery``), or for a texture set that was
+never saved as a project, in the settings' recovery folder under a name
+derived from the set's path, so opening the set again offers the restore.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from PySide6.QtCore import QObject, QTimer, Signal
+
+from ..errors import MatshopError
+from ..io.material_io import load_material
+from ..io.project import discard_recovery, find_recovery, load_project, save_project, write_recovery
+from ..layers import Document
+from .prompts import Prompts
+from .session import DocumentSession
+from .settings import AppSettings
+
+PROJECT_SUFFIX = ".matshop"
+
+
+class FileController(QObject):
+    """File actions of the main window."""
+
+    #: a document was opened; carries the project's saved editor settings ({} for a set)
+    opened = Signal(dict)
+    message = Signal(str)
+    recentChanged = Signal()
+
+    def __init__(
+        self,
+        session: DocumentSession,
+        prompts: Prompts,
+        settings: AppSettings,
+        editor_state: Callable[[], dict[str, Any]],
+    ) -> None:
+        super().__init__()
+        self.session = session
+        self.prompts = prompts
+        self.settings = settings
+        self.editor_state = editor_state
+        self.autosave_timer = QTimer(self)
+        self.autosave_timer.setInterval(settings.autosave_seconds() * 1000)
+        self.autosave_timer.timeout.connect(self.autosave)
+        self.autosave_timer.start()
+
+    # -- opening -----------------------------------------------------------------
+
+    def open_path(self, path: str | Path) -> bool:
+        """Open a texture set (folder or map) or a ``.matshop`` project; False if not opened."""
+        path = Path(path)
+        try:
+            doc, project_path, state, restored = self._load(path)
+        except (MatshopError, OSError) as exc:
+            self.prompts.error("Cannot open", _one_line(exc, path))
+            return False
+        if not self.close_document():
+            return False
+        self.session.set_document(
+            doc, project_path=project_path, source_path=path, modified=restored
+        )
+        self.settings.add_recent(path)
+        self.recentChanged.emit()
+        self.opened.emit(state)
+        what = "restored autosave of " if restored else ""
+        self.message.emit(
+            f"Opened {what}{path.name}: {doc.width}x{doc.height}, {', '.join(doc.schema.names)}"
+        )
+        return True
+
+    def _load(self, path: Path) -> tuple[Document, Path | None, dict, bool]:
+        """(document, project path, editor settings, restored from autosave)."""
+        if path.suffix.lower() == PROJECT_SUFFIX:
+            key = path
+            project_path: Path | None = path
+        else:
+            key = self.recovery_key(path)
+            project_path = None
+        recovery = find_recovery(key)
+        if recovery is not None:
+            if self.prompts.ask_restore(recovery):
+                project = load_project(recovery)
+                return project.document, project_path, _editor(project.settings), True
+            with contextlib.suppress(MatshopError):
+                discard_recovery(key)
+        if project_path is not None:
+            project = load_project(path)
+            return project.document, project_path, _editor(project.settings), False
+        material, _report = load_material(path)
+        return Document.from_material(material), None, {}, False
+
+    def open_dialog(self) -> None:
+        path = self.prompts.open_file(self._start_dir())
+        if path is not None:
+            self.open_path(path)
+
+    def open_folder_dialog(self) -> None:
+        path = self.prompts.open_folder(self._start_dir())
+        if path is not None:
+            self.open_path(path)
+
+    def _start_dir(self) -> str:
+        recent = self.settings.recent_files()
+        return str(recent[0].parent) if recent else ""
+
+    # -- saving ------------------------------------------------------------------
+
+    def save(self) -> bool:
+        if self.session.doc is None:
+            return False
+        if self.session.project_path is None:
+            return self.save_as()
+        return self.save_to(self.session.project_path)
+
+    def save_as(self) -> bool:
+        if self.session.doc is None:
+            return False
+        suggested = self.session.project_path or self._suggested_path()
+        path = self.prompts.save_file(str(suggested))
+        return False if path is None else self.save_to(path)
+
+    def _suggested_path(self) -> Path:
+        source = self.session.source_path
+        folder = (
+            source
+            if source is not None and source.is_dir()
+            else (source.parent if source is not None else Path.cwd())
+        )
+        name = self.session.doc.name if self.session.doc is not None else "untitled"
+        return folder / f"{name}{PROJECT_SUFFIX}"
+
+    def save_to(self, path: str | Path) -> bool:
+        """Save the project to ``path`` (atomically); False after telling the user why not."""
+        doc = self.session.doc
+        if doc is None:
+            return False
+        path = Path(path)
+        old_key = self.recovery_target()
+        try:
+            save_project(doc, path, settings={"editor": self.editor_state()})
+        except MatshopError as exc:
+            self.prompts.error("Cannot save", str(exc))
+            return False
+        self.session.mark_saved(path)
+        if old_key is not None and old_key != path:
+            with contextlib.suppress(MatshopError):  # the set's autosave is superseded
+                discard_recovery(old_key)
+        self.settings.add_recent(path)
+        self.recentChanged.emit()
+        self.message.emit(f"Saved {path.name}")
+        return True
+
+    # -- autosave and closing -------------------------------------------------------
+
+    def recovery_key(self, source: Path) -> Path:
+        """The stand-in project path whose recovery file holds a texture set's autosave."""
+        digest = hashlib.sha1(str(source.resolve()).encode()).hexdigest()[:10]
+        stem = source.stem if source.is_file() else source.name
+        return self.settings.recovery_dir() / f"{stem}-{digest}{PROJECT_SUFFIX}"
+
+    def recovery_target(self) -> Path | None:
+        if self.session.doc is None:
+            return None
+        if self.session.project_path is not None:
+            return self.session.project_path
+        if self.session.source_path is None:
+            return None
+        return self.recovery_key(self.session.source_path)
+
+    def autosave(self) -> Path | None:
+        """Write the recovery file if there are changes it does not hold yet."""
+        target = self.recovery_target()
+        if target is None or not self.session.needs_autosave:
+            return None
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            written = write_recovery(self.session.doc, target, {"editor": self.editor_state()})
+        except (MatshopError, OSError) as exc:
+            self.message.emit(f"Autosave failed: {_one_line(exc, target)}")
+            return None
+        self.session.mark_autosaved()
+        self.message.emit(f"Autosaved to {written.name}")
+        return written
+
+    def close_document(self) -> bool:
+        """Ask about unsaved changes; True when the document may go (then it is gone)."""
+        if self.session.doc is None:
+            return True
+        if self.session.modified:
+            answer = self.prompts.ask_save_changes(self.session.title)
+            if answer == "cancel" or (answer == "save" and not self.save()):
+                return False
+        target = self.recovery_target()
+        if target is not None:
+            with contextlib.suppress(MatshopError):  # closed on purpose: nothing to restore
+                discard_recovery(target)
+        self.session.set_document(None)
+        return True
+
+    # -- export --------------------------------------------------------------------
+
+    def export(self) -> None:
+        """Flatten and export with a preset of :mod:`matshop.export`; errors go to a message box."""
+        from ..export import builtin_preset_names, export_material
+
+        if self.session.doc is None:
+            return
+        preset = self.prompts.choose_preset(list(builtin_preset_names()))
+        folder = None if preset is None else self.prompts.export_folder(self._start_dir())
+        if folder is None:
+            return
+        try:
+            summary = export_material(self.session.doc.flatten_physical(), preset, folder)
+        except MatshopError as exc:
+            self.prompts.error("Cannot export", str(exc))
+            return
+        self.message.emit(f"Exported {preset} to {folder} ({len(summary.files)} files)")
+
+
+def _editor(settings: dict) -> dict:
+    state = settings.get("editor", {}) if isinstance(settings, dict) else {}
+    return state if isinstance(state, dict) else {}
+
+
+def _one_line(exc: Exception, path: Path) -> str:
+    if isinstance(exc, MatshopError):
+        return str(exc)
+    return str(MatshopError(getattr(exc, "strerror", None) or str(exc), path))

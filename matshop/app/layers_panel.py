@@ -1,0 +1,244 @@
+"""The layers panel: the stack (top first), visibility, names, blend, opacity, parameters.
+
+The list is rebuilt from the document whenever it reports a change; every
+user change goes out as an edit through :class:`LayerCommands`. Drag the
+rows to reorder, double-click to rename, tick to show or hide. An opacity
+drag is one undo step (sealed on press and release, merged in between).
+"""
+
+from __future__ import annotations
+
+from PySide6.QtCore import QSize, Qt, QTimer
+from PySide6.QtGui import QAction
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QComboBox,
+    QHBoxLayout,
+    QLabel,
+    QListWidget,
+    QListWidgetItem,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..layers import BLEND_MODES, FilterLayer, Layer
+from ..material import PARAMETER_KINDS
+from ..tools.widgets import FloatSlider, discard_widget
+from .icons import icon
+from .layer_commands import LayerCommands
+from .session import DocumentSession
+
+_ID_ROLE = Qt.ItemDataRole.UserRole
+_SHORT_NAMES = {
+    "base_color": "Color",
+    "roughness": "Rough",
+    "metallic": "Metal",
+    "normal": "Normal",
+    "ao": "AO",
+    "height": "Height",
+    "opacity": "Alpha",
+}
+
+
+def _describe(layer: Layer) -> str:
+    if isinstance(layer, FilterLayer):
+        values = ", ".join(
+            f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
+            for k, v in layer.op_params.items()
+            if not isinstance(v, tuple | list)
+        )
+        return f"{layer.kind} layer: {layer.op} ({values})"
+    return f"{layer.kind} layer"
+
+
+class LayersPanel(QWidget):
+    """The layer stack of the session's document."""
+
+    def __init__(
+        self,
+        session: DocumentSession,
+        commands: LayerCommands,
+        actions: dict[str, QAction],
+        parent: QWidget | None = None,
+    ) -> None:
+        super().__init__(parent)
+        self.session = session
+        self.commands = commands
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(8, 8, 8, 8)
+        layout.setSpacing(6)
+
+        row = QHBoxLayout()
+        row.setSpacing(6)
+        self.blend = QComboBox()
+        for mode in BLEND_MODES.values():
+            self.blend.addItem(mode.label, mode.name)
+            tip = f"{mode.formula} in edit space; {'linear' if mode.linear else 'not linear'}"
+            self.blend.setItemData(self.blend.count() - 1, tip, Qt.ItemDataRole.ToolTipRole)
+        self.blend.activated.connect(self._blend_chosen)
+        self.linear = QLabel("")
+        self.linear.setObjectName("hint")
+        row.addWidget(self.blend, 1)
+        row.addWidget(self.linear)
+        layout.addLayout(row)
+
+        self.opacity = FloatSlider("Opacity", 0.0, 100.0, 100.0, decimals=0, unit="%")
+        self.opacity.started.connect(session.seal)
+        self.opacity.edited.connect(self._opacity_edited)
+        self.opacity.finished.connect(session.seal)
+        layout.addWidget(self.opacity)
+
+        self.params_row = QHBoxLayout()
+        self.params_row.setSpacing(3)
+        self.param_buttons: dict[str, QToolButton] = {}
+        layout.addLayout(self.params_row)
+
+        self.list = QListWidget()
+        self.list.setIconSize(QSize(18, 18))
+        self.list.setDragDropMode(QAbstractItemView.DragDropMode.InternalMove)
+        self.list.setEditTriggers(
+            QAbstractItemView.EditTrigger.DoubleClicked
+            | QAbstractItemView.EditTrigger.EditKeyPressed
+        )
+        self.list.currentItemChanged.connect(self._current_changed)
+        self.list.itemChanged.connect(self._item_changed)
+        self.list.model().rowsMoved.connect(self._rows_moved)
+        layout.addWidget(self.list, 1)
+
+        buttons = QHBoxLayout()
+        buttons.setSpacing(2)
+        for name in ("add_paint", "add_fill", "add_filter", "move_up", "move_down", "delete"):
+            button = QToolButton()
+            button.setDefaultAction(actions[name])
+            button.setIconSize(QSize(18, 18))
+            button.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonIconOnly)
+            if name == "add_filter":
+                button.setPopupMode(QToolButton.ToolButtonPopupMode.InstantPopup)
+            buttons.addWidget(button)
+            if name == "add_filter":
+                buttons.addStretch(1)
+        layout.addLayout(buttons)
+
+        self._rebuilding = False
+        session.layersChanged.connect(self.refresh)
+        session.activeLayerChanged.connect(self.refresh)
+        session.documentReplaced.connect(self._rebuild_param_buttons)
+        self._rebuild_param_buttons()
+        self.refresh()
+
+    # -- showing the document ------------------------------------------------
+
+    def _rebuild_param_buttons(self) -> None:
+        while self.params_row.count():
+            item = self.params_row.takeAt(0)
+            if item.widget() is not None:
+                discard_widget(item.widget())
+        self.param_buttons.clear()
+        doc = self.session.doc
+        if doc is None:
+            return
+        for name in doc.schema.names:
+            button = QToolButton()
+            kind = PARAMETER_KINDS.get(name)
+            button.setText(_SHORT_NAMES.get(name, name[:6]))
+            button.setToolTip(f"Layer affects {kind.label if kind else name}")
+            button.setCheckable(True)
+            button.clicked.connect(lambda _=False, n=name: self._toggle_parameter(n))
+            self.params_row.addWidget(button)
+            self.param_buttons[name] = button
+        self.params_row.addStretch(1)
+
+    def refresh(self) -> None:
+        """Rebuild the rows and show the active layer's settings."""
+        doc = self.session.doc
+        self._rebuilding = True
+        self.list.clear()
+        if doc is not None:
+            for layer in reversed(doc.layers):
+                item = QListWidgetItem(icon(f"{layer.kind}_layer"), layer.name)
+                item.setData(_ID_ROLE, layer.id)
+                item.setFlags(
+                    Qt.ItemFlag.ItemIsSelectable
+                    | Qt.ItemFlag.ItemIsEnabled
+                    | Qt.ItemFlag.ItemIsEditable
+                    | Qt.ItemFlag.ItemIsUserCheckable
+                    | Qt.ItemFlag.ItemIsDragEnabled
+                )
+                checked = Qt.CheckState.Checked if layer.visible else Qt.CheckState.Unchecked
+                item.setCheckState(checked)
+                item.setToolTip(_describe(layer))
+                self.list.addItem(item)
+                if layer.id == self.session.active_layer_id:
+                    self.list.setCurrentItem(item)
+        self._rebuilding = False
+        self._show_active()
+
+    def _show_active(self) -> None:
+        layer = self.session.active_layer
+        for widget in (self.blend, self.opacity, *self.param_buttons.values()):
+            widget.setEnabled(layer is not None)
+        if layer is None:
+            self.linear.setText("")
+            return
+        self.blend.setCurrentIndex(max(self.blend.findData(layer.blend), 0))
+        self.linear.setText("linear" if BLEND_MODES[layer.blend].linear else "non-linear")
+        self.opacity.set_value(layer.opacity * 100.0)
+        affected = layer.parameters or tuple(self.param_buttons)
+        for name, button in self.param_buttons.items():
+            button.setChecked(name in affected)
+
+    def row_of(self, layer_id: int) -> int:
+        for row in range(self.list.count()):
+            if self.list.item(row).data(_ID_ROLE) == layer_id:
+                return row
+        raise KeyError(layer_id)
+
+    # -- user changes ----------------------------------------------------------
+
+    def _current_changed(self, item: QListWidgetItem | None, _previous=None) -> None:
+        if not self._rebuilding and item is not None:
+            self.session.set_active_layer(item.data(_ID_ROLE))
+
+    def _item_changed(self, item: QListWidgetItem) -> None:
+        if self._rebuilding or self.session.doc is None:
+            return
+        layer = self.session.doc.layer(item.data(_ID_ROLE))
+        visible = item.checkState() == Qt.CheckState.Checked
+        if visible != layer.visible:
+            self.commands.set_property(layer.id, "visible", visible)
+        elif item.text().strip() and item.text() != layer.name:
+            self.commands.set_property(layer.id, "name", item.text().strip())
+
+    def _rows_moved(self, _parent, start: int, _end: int, _dest, row: int) -> None:
+        if self._rebuilding or self.session.doc is None:
+            return
+        count = self.list.count()
+        target_row = row - 1 if row > start else row  # Qt gives the row before removal
+        layer_id = self.list.item(target_row).data(_ID_ROLE)
+        # rows run top-first, the stack bottom-first; apply once Qt has finished
+        # its drop (the edit rebuilds the list, which must not happen inside it)
+        QTimer.singleShot(0, lambda: self._move(layer_id, count - 1 - target_row))
+
+    def _move(self, layer_id: int, index: int) -> None:
+        self.commands.move(layer_id, index)
+        self.refresh()  # also when the move was refused: show the real order again
+
+    def _blend_chosen(self, index: int) -> None:
+        layer = self.session.active_layer
+        if layer is not None:
+            self.commands.set_property(layer.id, "blend", self.blend.itemData(index))
+
+    def _opacity_edited(self, percent: float) -> None:
+        layer = self.session.active_layer
+        if layer is not None:
+            self.commands.set_property(layer.id, "opacity", percent / 100.0, merge=True)
+
+    def _toggle_parameter(self, name: str) -> None:
+        layer = self.session.active_layer
+        if layer is None:
+            return
+        chosen = tuple(n for n, b in self.param_buttons.items() if b.isChecked())
+        everything = len(chosen) == len(self.param_buttons)
+        self.commands.set_property(layer.id, "parameters", None if everything else chosen)
+        self._show_active()  # a refused change (no parameter left) unticks nothing

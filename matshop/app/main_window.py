@@ -1,0 +1,383 @@
+"""The main window: canvas in the middle, tools on the left, layers and history on the right.
+
+It wires the parts together and owns no document logic: the session holds
+the document and history, the file controller opens and saves, the layer
+commands and tools build edits. ``MainWindow(settings=..., prompts=...)``
+takes replaceable settings and dialogs so tests run it headless.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from PySide6.QtCore import QSettings, QSize, Qt
+from PySide6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent, QFont
+from PySide6.QtWidgets import (
+    QComboBox,
+    QDockWidget,
+    QLabel,
+    QMainWindow,
+    QScrollArea,
+    QToolBar,
+    QWidget,
+)
+
+from .. import __version__
+from ..layers import Rect
+from ..tools.base import Tool
+from ..tools.painting import TOOL_CLASSES
+from ..tools.settings import BrushSettings, SwatchModel
+from ..tools.tool_panel import ToolPanel
+from ..viewport.canvas import TextureCanvas
+from ..viewport.display import display_mode, format_values
+from .files import FileController
+from .history_panel import HistoryPanel
+from .layer_commands import LayerCommands
+from .layers_panel import LayersPanel
+from .menus import build_actions, build_menus
+from .prompts import Prompts
+from .properties_panel import PropertiesPanel
+from .session import DocumentSession
+from .settings import AppSettings
+from .tool_host import EditorToolHost
+
+
+class MainWindow(QMainWindow):
+    """The matshop editor window."""
+
+    def __init__(self, settings: QSettings | None = None, prompts: Prompts | None = None) -> None:
+        super().__init__()
+        self.setWindowTitle("matshop")
+        self.setAcceptDrops(True)
+        self.setDockOptions(
+            QMainWindow.DockOption.AnimatedDocks | QMainWindow.DockOption.AllowTabbedDocks
+        )
+        self.app_settings = AppSettings(settings)
+        self.prompts = prompts or Prompts(self)
+        self.session = DocumentSession()
+        self.brush_settings = BrushSettings()
+        self.swatch_model = SwatchModel()
+        self.layer_commands = LayerCommands(self.session, self.swatch_model.swatch)
+        self.files = FileController(
+            self.session, self.prompts, self.app_settings, self.editor_state
+        )
+        self.host = EditorToolHost(
+            self.session,
+            self.layer_commands,
+            self.brush_settings,
+            self.swatch_model,
+            self.show_message,
+        )
+        self.tools: dict[str, Tool] = {cls.name: cls(self.host) for cls in TOOL_CLASSES}
+        self.canvas = TextureCanvas()
+        self.actions_by_name = build_actions(self)
+        build_menus(self, self.actions_by_name)
+        self._build_central()
+        self._build_docks()
+        self._build_status()
+
+        self.session.documentReplaced.connect(self._document_replaced)
+        for signal in (
+            self.session.historyChanged,
+            self.session.activeLayerChanged,
+            self.session.layersChanged,
+        ):
+            signal.connect(self.update_actions)
+        self.session.modifiedChanged.connect(self._update_title)
+        self.files.opened.connect(self.apply_editor_state)
+        self.files.message.connect(self.show_message)
+        self.files.recentChanged.connect(self._rebuild_recent)
+        self.layer_commands.message.connect(self.show_message)
+        self.brush_settings.changed.connect(self.canvas.update)
+        self.canvas.cursorMoved.connect(self._cursor_moved)
+        self._cursor = (math.nan, math.nan)
+        # values under a still cursor change when a stroke or an undo lands
+        self.session.historyChanged.connect(lambda: self._cursor_moved(*self._cursor))
+        self.canvas.viewChanged.connect(self._view_changed)
+
+        self.set_tool("brush")
+        self._rebuild_recent()
+        self._document_replaced()
+        self.resize(1560, 940)
+        geometry, state = self.app_settings.geometry()
+        if geometry is not None:
+            self.restoreGeometry(geometry)
+        if state is not None:
+            self.restoreState(state)
+
+    # -- layout ----------------------------------------------------------------
+
+    def _build_central(self) -> None:
+        tools = QToolBar("Tools")
+        tools.setObjectName("tools")
+        tools.setOrientation(Qt.Orientation.Vertical)
+        tools.setMovable(False)
+        tools.setIconSize(QSize(22, 22))
+        for name in self.tools:
+            tools.addAction(self.actions_by_name[f"tool_{name}"])
+        self.addToolBar(Qt.ToolBarArea.LeftToolBarArea, tools)
+
+        options = QToolBar("View")
+        options.setObjectName("view")
+        options.setMovable(False)
+        options.setIconSize(QSize(18, 18))
+        for name in ("open", "save", "undo", "redo"):
+            options.addAction(self.actions_by_name[name])
+        options.addSeparator()
+        label = QLabel("  Parameter ")
+        label.setObjectName("hint")
+        options.addWidget(label)
+        self.parameter_combo = QComboBox()
+        self.parameter_combo.setMinimumWidth(170)
+        self.parameter_combo.activated.connect(
+            lambda index: self.show_parameter(self.parameter_combo.itemData(index))
+        )
+        options.addWidget(self.parameter_combo)
+        options.addSeparator()
+        for name in ("fit", "actual"):
+            options.addAction(self.actions_by_name[name])
+        self.zoom_label = QLabel("")
+        self.zoom_label.setObjectName("hint")
+        self.zoom_label.setMinimumWidth(56)
+        options.addWidget(self.zoom_label)
+        self.addToolBar(Qt.ToolBarArea.TopToolBarArea, options)
+        self.setCentralWidget(self.canvas)
+
+    def _dock(
+        self, title: str, name: str, widget: QWidget, area: Qt.DockWidgetArea, scroll: bool = False
+    ) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(name)
+        dock.setFeatures(
+            QDockWidget.DockWidgetFeature.DockWidgetMovable
+            | QDockWidget.DockWidgetFeature.DockWidgetFloatable
+            | QDockWidget.DockWidgetFeature.DockWidgetClosable
+        )
+        if scroll:
+            area_widget = QScrollArea()
+            area_widget.setWidgetResizable(True)
+            area_widget.setWidget(widget)
+            widget = area_widget
+        dock.setWidget(widget)
+        self.addDockWidget(area, dock)
+        self.panels_menu.addAction(dock.toggleViewAction())
+        return dock
+
+    def _build_docks(self) -> None:
+        right, left = Qt.DockWidgetArea.RightDockWidgetArea, Qt.DockWidgetArea.LeftDockWidgetArea
+        self.tool_panel = ToolPanel(self.brush_settings, self.swatch_model)
+        self.layers_panel = LayersPanel(self.session, self.layer_commands, self.actions_by_name)
+        self.properties_panel = PropertiesPanel(self.session, self.layer_commands)
+        self.history_panel = HistoryPanel(self.session)
+        self.tool_dock = self._dock("Tool", "tool_dock", self.tool_panel, left, scroll=True)
+        self.layers_dock = self._dock("Layers", "layers_dock", self.layers_panel, right)
+        self.properties_dock = self._dock(
+            "Properties", "properties_dock", self.properties_panel, right, scroll=True
+        )
+        self.history_dock = self._dock("History", "history_dock", self.history_panel, right)
+        self.tabifyDockWidget(self.properties_dock, self.history_dock)
+        self.properties_dock.raise_()
+        self.resizeDocks([self.tool_dock], [290], Qt.Orientation.Horizontal)
+        self.resizeDocks([self.layers_dock], [310], Qt.Orientation.Horizontal)
+        self.resizeDocks(
+            [self.layers_dock, self.properties_dock], [520, 360], Qt.Orientation.Vertical
+        )
+
+    def _build_status(self) -> None:
+        status = self.statusBar()
+        mono = QFont("DejaVu Sans Mono")
+        mono.setStyleHint(QFont.StyleHint.Monospace)
+        self.texel_label = QLabel("")
+        self.texel_label.setFont(mono)
+        self.values_label = QLabel("")
+        self.values_label.setFont(mono)
+        status.addPermanentWidget(self.values_label, 1)
+        status.addPermanentWidget(self.texel_label)
+
+    # -- state -------------------------------------------------------------------
+
+    def open_path(self, path: str | Path) -> bool:
+        """Open a texture set (folder or map) or a ``.matshop`` project."""
+        return self.files.open_path(path)
+
+    @property
+    def tool(self) -> Tool:
+        return self.canvas.tool  # type: ignore[return-value]
+
+    def set_tool(self, name: str) -> None:
+        if self.canvas.tool is not None:
+            self.canvas.tool.cancel()
+        tool = self.tools[name]
+        self.canvas.tool = tool
+        self.actions_by_name[f"tool_{name}"].setChecked(True)
+        self.tool_panel.show_tool(
+            tool.label, tool.tip, uses_brush=name != "eyedropper", uses_swatch=name == "brush"
+        )
+        self.canvas.update()
+
+    def show_parameter(self, name: str) -> None:
+        self.canvas.set_parameter(name)
+        index = self.parameter_combo.findData(name)
+        self.parameter_combo.setCurrentIndex(index)
+        doc = self.session.doc
+        if doc is not None:
+            self.parameter_combo.setToolTip(display_mode(doc.schema[name]).note)
+        for action in self.parameter_menu.actions():
+            action.setChecked(action.data() == name)
+
+    def undo(self) -> None:
+        # never under a stroke in progress: its transaction owns the tiles it touches
+        if not (self.canvas.tool is not None and self.canvas.tool.busy):
+            self.session.undo()
+
+    def redo(self) -> None:
+        if not (self.canvas.tool is not None and self.canvas.tool.busy):
+            self.session.redo()
+
+    def editor_state(self) -> dict[str, Any]:
+        """What a project stores about the editor beside the document."""
+        return {
+            "active_layer": self.session.active_layer_id,
+            "parameter": self.canvas.parameter,
+            "brush": self.brush_settings.to_json(),
+            "swatch": self.swatch_model.to_json(),
+        }
+
+    def apply_editor_state(self, state: dict[str, Any]) -> None:
+        doc = self.session.doc
+        if doc is None:
+            return
+        layer_id = state.get("active_layer")
+        if isinstance(layer_id, int) and any(layer.id == layer_id for layer in doc.layers):
+            self.session.set_active_layer(layer_id)
+        if state.get("parameter") in doc.schema:
+            self.show_parameter(state["parameter"])
+        self.brush_settings.load_json(state.get("brush"))
+        self.swatch_model.load_json(state.get("swatch"))
+
+    def _document_replaced(self) -> None:
+        doc = self.session.doc
+        self.canvas.set_document(doc)
+        self.parameter_combo.clear()
+        self.parameter_menu.clear()
+        if doc is not None:
+            self.swatch_model.reset(doc)  # before the editor shows its values
+        self.tool_panel.swatch_editor.set_schema(None if doc is None else doc.schema)
+        if doc is not None:
+            for number, param in enumerate(doc.schema.parameters, start=1):
+                self.parameter_combo.addItem(param.label, param.name)
+                action = self.parameter_menu.addAction(param.label)
+                action.setData(param.name)
+                action.setCheckable(True)
+                if number <= 9:
+                    action.setShortcut(f"Alt+{number}")
+                action.triggered.connect(lambda _=False, n=param.name: self.show_parameter(n))
+            self.show_parameter(doc.schema.names[0])
+        self._update_title()
+        self.update_actions()
+
+    def update_actions(self) -> None:
+        """Enable what makes sense now; name the undo/redo steps."""
+        a, session = self.actions_by_name, self.session
+        has_doc = session.doc is not None
+        history = session.history
+        for name in (
+            "save",
+            "save_as",
+            "export",
+            "close",
+            "add_paint",
+            "add_fill",
+            "add_filter",
+            "fit",
+            "actual",
+            "zoom_in",
+            "zoom_out",
+        ):
+            a[name].setEnabled(has_doc)
+        self.parameter_combo.setEnabled(has_doc)
+        can_undo = history is not None and history.can_undo
+        can_redo = history is not None and history.can_redo
+        a["undo"].setEnabled(can_undo)
+        a["redo"].setEnabled(can_redo)
+        a["undo"].setText(f"&Undo {history.undo_label}" if can_undo else "&Undo")
+        a["redo"].setText(f"&Redo {history.redo_label}" if can_redo else "&Redo")
+        layer = session.active_layer
+        a["delete"].setEnabled(layer is not None and has_doc and len(session.doc) > 1)
+        a["move_up"].setEnabled(self.layer_commands.can_move(1))
+        a["move_down"].setEnabled(self.layer_commands.can_move(-1))
+
+    def _update_title(self, *_args) -> None:
+        title = self.session.title
+        # Qt draws "[*]" as "*" while the window is modified
+        self.setWindowTitle(f"{title}[*] — matshop" if title else "matshop")
+        self.setWindowModified(self.session.modified)
+
+    def _rebuild_recent(self) -> None:
+        self.recent_menu.clear()
+        recent = self.app_settings.recent_files()
+        for path in recent:
+            action = self.recent_menu.addAction(str(path))
+            action.triggered.connect(lambda _=False, p=path: self.open_path(p))
+        if recent:
+            self.recent_menu.addSeparator()
+            self.recent_menu.addAction("Clear Recent", self._clear_recent)
+        self.recent_menu.setEnabled(bool(recent))
+
+    def _clear_recent(self) -> None:
+        self.app_settings.clear_recent()
+        self._rebuild_recent()
+
+    # -- status ------------------------------------------------------------------
+
+    def show_message(self, text: str) -> None:
+        self.statusBar().showMessage(text, 6000)
+
+    def _cursor_moved(self, x: float, y: float) -> None:
+        self._cursor = (x, y)
+        doc = self.session.doc
+        if doc is None or math.isnan(x):
+            self.texel_label.setText("")
+            self.values_label.setText("")
+            return
+        ix, iy = math.floor(x), math.floor(y)
+        if not (0 <= ix < doc.width and 0 <= iy < doc.height):
+            self.texel_label.setText("")
+            self.values_label.setText("")
+            return
+        rect = Rect(ix, iy, ix + 1, iy + 1)
+        self.texel_label.setText(f"x {ix:>5}  y {iy:>5}")
+        self.values_label.setText(format_values(doc.schema, doc.physical(rect, copy=False)))
+        edit = doc.flatten_edit(rect, copy=False).reshape(-1)
+        self.values_label.setToolTip("edit values: " + " ".join(f"{v:.3f}" for v in edit[:24]))
+
+    def _view_changed(self) -> None:
+        self.zoom_label.setText(f"{self.canvas.view.zoom * 100:.0f}%")
+
+    def show_about(self) -> None:
+        self.prompts.info(
+            "About matshop",
+            f"matshop {__version__}: a layer-based editor for spatially-varying materials, "
+            "editing every parameter in its own editing space.",
+        )
+
+    # -- window events -----------------------------------------------------------
+
+    def dragEnterEvent(self, event: QDragEnterEvent) -> None:  # noqa: N802 - Qt override
+        if any(url.isLocalFile() for url in event.mimeData().urls()):
+            event.acceptProposedAction()
+
+    def dropEvent(self, event: QDropEvent) -> None:  # noqa: N802 - Qt override
+        paths = [Path(url.toLocalFile()) for url in event.mimeData().urls() if url.isLocalFile()]
+        if paths:
+            event.acceptProposedAction()
+            self.open_path(paths[0])
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt override
+        if not self.files.close_document():
+            event.ignore()
+            return
+        self.app_settings.save_geometry(self.saveGeometry(), self.saveState())
+        event.accept()

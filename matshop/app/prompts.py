@@ -1,0 +1,87 @@
+"""Every modal question the editor asks, in one object tests can replace.
+
+The window never calls QMessageBox or QFileDialog directly: it asks its
+``prompts``. Tests swap in an object answering from a script (or monkeypatch
+QMessageBox, which these methods use), so no test ever blocks on a dialog.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Literal
+
+from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox, QWidget
+
+SaveAnswer = Literal["save", "discard", "cancel"]
+
+IMAGE_FILTER = "*.png *.jpg *.jpeg *.tga *.tif *.tiff *.exr *.hdr *.bmp"
+OPEN_FILTER = (
+    f"Projects and textures (*.matshop {IMAGE_FILTER});;matshop projects (*.matshop);;"
+    f"Texture maps ({IMAGE_FILTER});;All files (*)"
+)
+
+
+class Prompts:
+    """Message boxes and file dialogs parented to the main window."""
+
+    def __init__(self, parent: QWidget) -> None:
+        self.parent = parent
+
+    def error(self, title: str, text: str) -> None:
+        """A one-line user error (a MatshopError's text); never a traceback."""
+        QMessageBox.critical(self.parent, title, text)
+
+    def info(self, title: str, text: str) -> None:
+        QMessageBox.information(self.parent, title, text)
+
+    def ask_save_changes(self, name: str) -> SaveAnswer:
+        buttons = QMessageBox.StandardButton
+        answer = QMessageBox.question(
+            self.parent,
+            "Unsaved changes",
+            f"Save the changes to {name} before closing it?",
+            buttons.Save | buttons.Discard | buttons.Cancel,
+            buttons.Save,
+        )
+        if answer == buttons.Save:
+            return "save"
+        return "discard" if answer == buttons.Discard else "cancel"
+
+    def ask_restore(self, recovery: Path) -> bool:
+        buttons = QMessageBox.StandardButton
+        answer = QMessageBox.question(
+            self.parent,
+            "Restore autosave?",
+            "matshop was closed without saving this material. Restore the autosaved "
+            f"version from {recovery.name}? (No discards it.)",
+            buttons.Yes | buttons.No,
+            buttons.Yes,
+        )
+        return answer == buttons.Yes
+
+    def open_file(self, start: str = "") -> Path | None:
+        path, _ = QFileDialog.getOpenFileName(self.parent, "Open", start, OPEN_FILTER)
+        return Path(path) if path else None
+
+    def open_folder(self, start: str = "") -> Path | None:
+        path = QFileDialog.getExistingDirectory(self.parent, "Open texture set folder", start)
+        return Path(path) if path else None
+
+    def save_file(self, suggested: str) -> Path | None:
+        path, _ = QFileDialog.getSaveFileName(
+            self.parent, "Save project", suggested, "matshop projects (*.matshop)"
+        )
+        if not path:
+            return None
+        path = Path(path)
+        return path if path.suffix == ".matshop" else path.with_name(path.name + ".matshop")
+
+    def choose_preset(self, names: list[str]) -> str | None:
+        if not names:
+            return None
+        name, ok = QInputDialog.getItem(self.parent, "Export", "Preset:", names, 0, False)
+        return name if ok else None
+
+    def export_folder(self, start: str = "") -> Path | None:
+        path = QFileDialog.getExistingDirectory(self.parent, "Export into folder", start)
+        return Path(path) if path else None

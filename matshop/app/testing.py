@@ -1,0 +1,118 @@
+"""Helpers for driving the editor from tests and scripts (the napari ``_testsupport`` idea).
+
+:class:`ScriptedPrompts` answers every dialog from attributes and records
+what was asked; :func:`make_window` builds a window with private settings;
+:func:`drag` sends a real press-move-release sequence (QTest's mouseMove
+carries no buttons, which sliders need).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from PySide6.QtCore import QEvent, QPoint, QPointF, QSettings, Qt
+from PySide6.QtGui import QMouseEvent
+from PySide6.QtWidgets import QApplication, QWidget
+
+from .main_window import MainWindow
+from .prompts import Prompts, SaveAnswer
+
+
+class ScriptedPrompts(Prompts):
+    """Dialogs answered by attributes; every question is appended to ``asked``."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)  # type: ignore[arg-type]
+        self.asked: list[tuple[str, str]] = []
+        self.save_answer: SaveAnswer = "discard"
+        self.restore_answer = False
+        self.save_path: Path | None = None
+        self.open_path: Path | None = None
+        self.folder: Path | None = None
+        self.preset: str | None = None
+
+    def error(self, title: str, text: str) -> None:
+        self.asked.append(("error", text))
+
+    def info(self, title: str, text: str) -> None:
+        self.asked.append(("info", text))
+
+    def ask_save_changes(self, name: str) -> SaveAnswer:
+        self.asked.append(("save_changes", name))
+        return self.save_answer
+
+    def ask_restore(self, recovery: Path) -> bool:
+        self.asked.append(("restore", str(recovery)))
+        return self.restore_answer
+
+    def open_file(self, start: str = "") -> Path | None:
+        self.asked.append(("open_file", start))
+        return self.open_path
+
+    def open_folder(self, start: str = "") -> Path | None:
+        self.asked.append(("open_folder", start))
+        return self.folder
+
+    def save_file(self, suggested: str) -> Path | None:
+        self.asked.append(("save_file", suggested))
+        return self.save_path
+
+    def choose_preset(self, names: list[str]) -> str | None:
+        self.asked.append(("preset", ",".join(names)))
+        return self.preset if self.preset in names else (names[0] if names else None)
+
+    def export_folder(self, start: str = "") -> Path | None:
+        self.asked.append(("export_folder", start))
+        return self.folder
+
+    def kinds(self) -> list[str]:
+        return [kind for kind, _ in self.asked]
+
+
+def make_window(folder: Path, prompts: Prompts | None = None) -> MainWindow:
+    """A window whose settings (and autosave folder) live in ``folder``."""
+    settings = QSettings(str(folder / "settings.ini"), QSettings.Format.IniFormat)
+    settings.setValue("recovery_dir", str(folder / "recovery"))
+    window = MainWindow(settings=settings, prompts=prompts or ScriptedPrompts())
+    if isinstance(window.prompts, ScriptedPrompts):
+        window.prompts.parent = window
+    return window
+
+
+def _mouse(
+    widget: QWidget,
+    kind: QEvent.Type,
+    pos: QPointF,
+    button: Qt.MouseButton,
+    buttons: Qt.MouseButton,
+    modifiers: Qt.KeyboardModifier,
+) -> None:
+    global_pos = QPointF(widget.mapToGlobal(pos.toPoint()))
+    event = QMouseEvent(kind, pos, global_pos, button, buttons, modifiers)
+    QApplication.sendEvent(widget, event)
+
+
+def drag(
+    widget: QWidget,
+    points: Sequence[QPointF | QPoint | tuple[float, float]],
+    *,
+    button: Qt.MouseButton = Qt.MouseButton.LeftButton,
+    modifiers: Qt.KeyboardModifier = Qt.KeyboardModifier.NoModifier,
+) -> None:
+    """Press at the first point, move through the others with the button held, release."""
+    pts = [QPointF(*p) if isinstance(p, tuple) else QPointF(p) for p in points]
+    none = Qt.MouseButton.NoButton
+    _mouse(widget, QEvent.Type.MouseButtonPress, pts[0], button, button, modifiers)
+    for point in pts[1:]:
+        _mouse(widget, QEvent.Type.MouseMove, point, none, button, modifiers)
+    _mouse(widget, QEvent.Type.MouseButtonRelease, pts[-1], button, none, modifiers)
+
+
+def click(
+    widget: QWidget,
+    point: QPointF | tuple[float, float],
+    *,
+    modifiers: Qt.KeyboardModifier = Qt.KeyboardModifier.NoModifier,
+) -> None:
+    drag(widget, [point], modifiers=modifiers)

@@ -1,0 +1,230 @@
+"""``export_material``: one Material, one preset -> the files an engine loads.
+
+Works on any :class:`~matshop.material.Material` (a texture set just loaded,
+or a layered document flattened through ``from_edit``). The steps:
+
+1. pick the preset's outputs the material needs (optional maps only when it
+   has their parameters) and list parameters to fill with engine defaults
+   (``strict`` turns that list into an error before any work);
+2. resize to a power of two when asked (filtered in editing space);
+3. write every output, plus an optional ``.glb`` and ``.mtlx``, all-or-nothing
+   through :mod:`.writer`;
+4. return an :class:`ExportSummary` of what was written.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import zlib
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MatshopError
+from ..io.images import probe_image, write_image
+from ..material import Material
+from .pack import is_written, pack_output, plan_missing
+from .presets import OutputSpec, Preset, load_preset
+from .quantize import quantize
+from .resize import is_power_of_two, resize_material, target_size
+from .writer import PendingFile, check_targets, write_all
+
+_SAFE_NAME = re.compile(r"[^A-Za-z0-9_.\-]+")
+
+
+@dataclass(frozen=True)
+class WrittenFile:
+    """One file of an export and what it holds."""
+
+    path: Path
+    kind: str  #: ``texture``, ``gltf`` or ``mtlx``
+    contents: str  #: e.g. ``R ao, G roughness, B metallic`` or ``base_color (srgb)``
+    detail: str = ""  #: e.g. ``1024x1024 RGBA uint8 png``
+
+
+@dataclass
+class ExportSummary:
+    """What :func:`export_material` wrote, for the CLI and the app."""
+
+    preset: str
+    material: str
+    out_dir: Path
+    size: tuple[int, int]  #: (height, width) of the written textures
+    files: list[WrittenFile] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+    def file(self, suffix: str) -> Path:
+        """The written path whose name ends with ``suffix`` (e.g. ``_ORM.png``)."""
+        for written in self.files:
+            if written.path.name.endswith(suffix):
+                return written.path
+        raise KeyError(suffix)
+
+    def lines(self) -> list[str]:
+        """Human-readable lines: one per file, then the warnings."""
+        height, width = self.size
+        lines = [
+            f"exported {self.material!r} with preset {self.preset!r} "
+            f"({width}x{height}) to {self.out_dir}:"
+        ]
+        for written in self.files:
+            detail = f" [{written.detail}]" if written.detail else ""
+            lines.append(f"  {written.path.name}: {written.contents}{detail}")
+        lines.extend(f"warning: {w}" for w in self.warnings)
+        return lines
+
+
+def describe_output(output: OutputSpec) -> str:
+    """What an output file holds, e.g. ``R ao, G roughness, B metallic, A 1 - roughness``."""
+    if output.channels is None:
+        color = f" ({output.color_space})" if output.source in _COLORS else ""
+        return f"{output.source}{color}"
+    parts = []
+    for spec in output.channels:
+        letter = "RGBA"[spec.dest] if spec.dest < 4 else str(spec.dest)
+        if spec.source is None:
+            what = f"{spec.value:g}"
+        else:
+            what = spec.source + (f"[{spec.source_channel}]" if spec.source_channel else "")
+            what = f"1 - {what}" if spec.transform == "invert" else what
+        parts.append(f"{letter} {what}")
+    return ", ".join(parts)
+
+
+_COLORS = frozenset({"base_color", "diffuse", "specular", "emissive"})
+
+
+def export_material(
+    material: Material,
+    preset: Preset | str,
+    out_dir: str | os.PathLike,
+    *,
+    name: str | None = None,
+    size: int | None = None,
+    strict: bool = False,
+    force: bool = False,
+    glb: bool = False,
+    mesh: str | os.PathLike | None = None,
+    mtlx: bool = False,
+    seed: int = 0,
+) -> ExportSummary:
+    """Write ``material`` as ``preset`` says into ``out_dir``.
+
+    Parameters
+    ----------
+    material : physical maps (any Material).
+    preset : a :class:`Preset` or a built-in preset name.
+    out_dir : folder, created if needed.
+    name : the ``{material}`` of file names (default: the material's name).
+    size : longest side in texels, a power of two; the material is resampled
+        in editing space. Default: keep the material's size.
+    strict : refuse to fill missing parameters with engine defaults.
+    force : replace existing files.
+    glb : also write ``<name>.glb`` (glTF binary: the material, glTF-packed
+        PNG textures embedded, on ``mesh`` or the unit sphere).
+    mesh : a Wavefront OBJ for the ``.glb`` (default: a UV sphere).
+    mtlx : also write ``<name>.mtlx`` (MaterialX gltf_pbr referencing the textures).
+    seed : dithering noise seed.
+
+    Raises
+    ------
+    MatshopError : one line naming the problem (and the file when there is one).
+    """
+    if isinstance(preset, str):
+        preset = load_preset(preset)
+    name = _SAFE_NAME.sub("_", name or material.name).strip("._") or "material"
+    out = Path(out_dir)
+    outputs = [o for o in preset.outputs if is_written(material, o)]
+    missing = plan_missing(material, preset)
+    unfillable = [m for m in missing if m.fill is None]
+    if unfillable or (strict and missing):
+        first = (unfillable or missing)[0]
+        others = f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""
+        if unfillable:
+            raise MatshopError(f"preset {preset.name!r}: {first.message()}{others}")
+        raise MatshopError(
+            f"preset {preset.name!r}: {first.output} needs {first.parameter}, which the "
+            f"material lacks{others}; strict mode refuses engine defaults"
+        )
+    warnings = [m.message() for m in missing]
+    # refuse clashes before the costly part (resampling, packing)
+    names = [o.file_for(name, preset.name) for o in outputs]
+    names += [f"{name}.glb"] * glb + [f"{name}.mtlx"] * mtlx
+    check_targets(out, names, force=force)
+
+    if size is not None:
+        material = resize_material(material, target_size(material.size, size))
+    elif not all(is_power_of_two(n) for n in material.size):
+        height, width = material.size
+        warnings.append(f"{width}x{height} is not a power of two; engines may pad or rescale it")
+
+    pending: list[PendingFile] = []
+    written: list[WrittenFile] = []
+    texture_files: dict[str, str] = {}
+    for output in outputs:
+        file_name = output.file_for(name, preset.name)
+        texture_files[output.channel] = file_name
+        writer = _texture_writer(material, output, preset, seed, file_name, warnings)
+        pending.append(PendingFile(file_name, writer))
+        written.append(WrittenFile(out / file_name, "texture", describe_output(output)))
+    if glb:
+        from .gltf import glb_writer
+
+        pending.append(PendingFile(f"{name}.glb", glb_writer(material, name, mesh, seed=seed)))
+        written.append(WrittenFile(out / f"{name}.glb", "gltf", "glTF binary: material and mesh"))
+    if mtlx:
+        from .mtlx import mtlx_writer
+
+        pending.append(
+            PendingFile(f"{name}.mtlx", mtlx_writer(preset, outputs, texture_files, name))
+        )
+        written.append(WrittenFile(out / f"{name}.mtlx", "mtlx", "MaterialX gltf_pbr document"))
+    write_all(out, pending, force=force)
+    summary = ExportSummary(preset.name, name, out, material.size, warnings=warnings)
+    summary.files = [_with_detail(w) for w in written]
+    return summary
+
+
+def _texture_writer(
+    material: Material,
+    output: OutputSpec,
+    preset: Preset,
+    seed: int,
+    file_name: str,
+    warnings: list[str],
+) -> Callable[[Path], None]:
+    """The closure writing one texture; packing happens only when it runs
+    (one output in memory at a time). Clipping is reported in ``warnings``."""
+
+    def write(path: Path) -> None:
+        array = pack_output(material, output, preset)
+        if output.bit_depth in ("uint8", "uint16"):
+            outside = int(np.count_nonzero((array < 0.0) | (array > 1.0)))
+            if outside:
+                warnings.append(
+                    f"{file_name}: {outside} value(s) outside [0, 1] clipped "
+                    f"(a float format such as exr keeps them)"
+                )
+        # one noise field per output, reproducible from the output's name
+        codes = quantize(
+            array,
+            output.bit_depth,
+            dither=output.dithering,
+            seed=zlib.crc32(f"{seed}:{output.channel}".encode()),
+        )
+        write_image(path, codes, bit_depth=output.bit_depth)
+
+    return write
+
+
+def _with_detail(written: WrittenFile) -> WrittenFile:
+    if written.kind != "texture":
+        size = written.path.stat().st_size
+        return WrittenFile(written.path, written.kind, written.contents, f"{size} bytes")
+    info = probe_image(written.path)
+    names = "".join(info.channel_names) if info.channels <= 4 else f"{info.channels} channels"
+    detail = f"{info.width}x{info.height} {names} {info.bit_depth} {info.format}"
+    return WrittenFile(written.path, written.kind, written.contents, detail)

@@ -1,0 +1,315 @@
+"""Export presets: what files an engine wants and how each is packed.
+
+A preset is data, never a code branch. Its shape follows Substance 3D
+Painter's export presets (``maps``, each with a ``fileName`` template,
+``fileFormat``, ``bitDepth`` and ``channels`` of ``destChannel`` /
+``srcMapName`` / ``srcChannel``) so artists can read and write their own::
+
+    {
+      "name": "unreal",
+      "description": "Unreal Engine 5: BaseColor, DirectX normal, packed ORM",
+      "fileName": "{material}_{channel}.{ext}",
+      "normalConvention": "directx",
+      "maps": [
+        {"channel": "BaseColor", "fileFormat": "png", "bitDepth": 8,
+         "colorSpace": "srgb", "srcMapName": "base_color"},
+        {"channel": "ORM", "fileFormat": "png", "bitDepth": 8, "channels": [
+          {"destChannel": "R", "srcMapName": "ao"},
+          {"destChannel": "G", "srcMapName": "roughness"},
+          {"destChannel": "B", "srcMapName": "metallic"}]}
+      ]
+    }
+
+A map either takes a whole parameter (``srcMapName`` on the map: all its
+channels, e.g. base color RGB or a 128-channel distribution) or lists
+``channels``. A channel reads ``srcChannel`` (R/G/B/A, X/Y/Z or an index) of
+the parameter ``srcMapName``, optionally through ``"transform": "invert"``
+(smoothness = 1 - roughness); ``"value"`` instead of a source writes a
+constant; ``"default"`` overrides the engine default used when the material
+lacks the parameter. ``srcMapName`` may also be ``tangent`` (the tangent of a
+normal + tangent frame). A map with ``"optional": true`` is written only when
+the material has at least one of its parameters (emissive, height).
+
+``colorSpace`` applies to color parameters (base color, specular, emissive,
+diffuse): ``srgb`` or ``linear``; other parameters are data and always linear.
+Normals are encoded ``(n + 1) / 2`` in the preset's ``normalConvention``.
+8-bit maps are dithered unless ``"dithering": false``; the built-in presets
+turn it off for normal maps, whose decoded (renormalised) vectors sit just off
+the code grid: rounding keeps them within half a code, dithering a full one.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from ..errors import MatshopError
+
+#: parameters whose values are display-encoded colors
+COLOR_PARAMETERS = frozenset({"base_color", "diffuse", "specular", "emissive"})
+#: pseudo-parameters a preset may read besides the material's own
+PSEUDO_PARAMETERS = frozenset({"tangent"})
+
+#: format -> (file extension, bit depths it can hold, channel counts it can hold)
+FORMATS: dict[str, tuple[str, tuple[str, ...], tuple[int, ...] | None]] = {
+    "png": ("png", ("uint8", "uint16"), (1, 2, 3, 4)),
+    "tga": ("tga", ("uint8",), (1, 3, 4)),
+    "jpg": ("jpg", ("uint8",), (1, 3)),
+    "tif": ("tif", ("uint8", "uint16", "float"), None),
+    "exr": ("exr", ("half", "float"), None),
+}
+_FORMAT_ALIASES = {"jpeg": "jpg", "tiff": "tif", "targa": "tga", "openexr": "exr"}
+_BIT_DEPTHS = {
+    "8": "uint8",
+    "uint8": "uint8",
+    "16": "uint16",
+    "uint16": "uint16",
+    "16f": "half",
+    "half": "half",
+    "32f": "float",
+    "32": "float",
+    "float": "float",
+}
+_CHANNEL_LETTERS = {"R": 0, "G": 1, "B": 2, "A": 3, "X": 0, "Y": 1, "Z": 2, "L": 0}
+_TEMPLATE_FIELDS = frozenset({"material", "channel", "ext", "preset"})
+_TEMPLATE_TOKEN = re.compile(r"\{([^{}]*)\}")
+_TRANSFORMS = ("none", "invert")
+_CONVENTIONS = ("opengl", "directx")
+_COLOR_SPACES = ("srgb", "linear")
+
+
+@dataclass(frozen=True)
+class ChannelSpec:
+    """One destination channel of an output file."""
+
+    dest: int
+    #: parameter name (or ``tangent``); None for a constant ``value``
+    source: str | None
+    source_channel: int = 0
+    transform: str = "none"
+    #: the constant (no source), or the fill when the material lacks ``source``
+    value: float | None = None
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    """One file of a preset."""
+
+    channel: str  #: the ``{channel}`` token, e.g. ``BaseColor``
+    file_name: str  #: template, e.g. ``{material}_{channel}.{ext}``
+    format: str  #: key of :data:`FORMATS`
+    bit_depth: str  #: uint8, uint16, half, float
+    color_space: str  #: srgb or linear (color parameters only)
+    channels: tuple[ChannelSpec, ...] | None  #: None: the whole ``source`` parameter
+    source: str | None = None
+    optional: bool = False
+    dithering: bool = True
+
+    @property
+    def extension(self) -> str:
+        return FORMATS[self.format][0]
+
+    @property
+    def sources(self) -> tuple[str, ...]:
+        """Every parameter this output reads, in order, without repeats."""
+        if self.channels is None:
+            return (self.source,) if self.source else ()
+        names = [c.source for c in self.channels if c.source is not None]
+        return tuple(dict.fromkeys(names))
+
+    def file_for(self, material: str, preset: str) -> str:
+        return self.file_name.format(
+            material=material, channel=self.channel, ext=self.extension, preset=preset
+        )
+
+
+@dataclass(frozen=True)
+class Preset:
+    """A named table of outputs."""
+
+    name: str
+    description: str
+    normal_convention: str
+    outputs: tuple[OutputSpec, ...]
+    origin: str  #: ``built-in`` or the file it came from
+
+    def output(self, channel: str) -> OutputSpec:
+        for out in self.outputs:
+            if out.channel == channel:
+                return out
+        raise KeyError(f"preset {self.name!r} has no output {channel!r}")
+
+
+# ---------------------------------------------------------------------------
+# loading
+
+
+def builtin_preset_names() -> list[str]:
+    """Names of the presets shipped in ``matshop/export/presets/``."""
+    folder = resources.files(__package__).joinpath("presets")
+    return sorted(p.name[: -len(".json")] for p in folder.iterdir() if p.name.endswith(".json"))
+
+
+def load_preset(name: str | None = None, *, path: str | os.PathLike | None = None) -> Preset:
+    """A built-in preset by ``name``, or the user's preset file at ``path``.
+
+    User files are JSON (``.json``) or TOML (``.toml``). Every problem raises
+    :class:`MatshopError` naming the file and the offending entry.
+    """
+    if path is not None:
+        file = Path(path)
+        try:
+            text = file.read_bytes()
+        except OSError as exc:
+            raise MatshopError(f"cannot read preset: {exc.strerror or exc}", file) from None
+        return parse_preset(_decode(text, file), origin=str(file))
+    if name is None:
+        raise MatshopError("no preset given: use --preset NAME or --preset-file FILE")
+    known = builtin_preset_names()
+    if name not in known:
+        raise MatshopError(f"unknown preset {name!r}; built-in presets: {', '.join(known)}")
+    text = resources.files(__package__).joinpath("presets", f"{name}.json").read_bytes()
+    return parse_preset(_decode(text, Path(f"{name}.json")), origin="built-in")
+
+
+def _decode(text: bytes, file: Path) -> dict[str, Any]:
+    try:
+        if file.suffix.lower() == ".toml":
+            data = tomllib.loads(text.decode("utf-8"))
+        elif file.suffix.lower() == ".json":
+            data = json.loads(text)
+        else:
+            raise MatshopError("preset files must be .json or .toml", file)
+    except (ValueError, UnicodeDecodeError) as exc:  # JSONDecodeError, TOMLDecodeError
+        raise MatshopError(f"not a valid preset file: {exc}", file) from None
+    if not isinstance(data, dict):
+        raise MatshopError("a preset file must hold one table (a JSON object)", file)
+    return data
+
+
+def parse_preset(data: dict[str, Any], *, origin: str = "built-in") -> Preset:
+    """Validate a decoded preset and build its :class:`Preset`."""
+    where = None if origin == "built-in" else origin
+
+    def fail(problem: str) -> MatshopError:
+        return MatshopError(f"preset {data.get('name', '?')!r}: {problem}", where)
+
+    name = data.get("name")
+    if not isinstance(name, str) or not name:
+        raise fail("needs a non-empty string 'name'")
+    convention = str(data.get("normalConvention", "opengl")).lower()
+    if convention not in _CONVENTIONS:
+        raise fail(f"normalConvention must be opengl or directx, got {convention!r}")
+    template = data.get("fileName", "{material}_{channel}.{ext}")
+    maps = data.get("maps")
+    if not isinstance(maps, list) or not maps:
+        raise fail("needs a non-empty list 'maps'")
+    outputs = []
+    for index, entry in enumerate(maps):
+        if not isinstance(entry, dict):
+            raise fail(f"maps[{index}] must be a table")
+        try:
+            outputs.append(_parse_output(entry, template))
+        except ValueError as exc:
+            label = entry.get("channel", index)
+            raise fail(f"map {label!r}: {exc}") from None
+    files = [o.file_for("m", name) for o in outputs]
+    if len(set(files)) != len(files):
+        raise fail("two maps would write the same file name")
+    return Preset(name, str(data.get("description", "")), convention, tuple(outputs), origin)
+
+
+def _parse_output(entry: dict[str, Any], default_template: str) -> OutputSpec:
+    channel = entry.get("channel")
+    if not isinstance(channel, str) or not re.fullmatch(r"[A-Za-z0-9_.\-]+", channel):
+        raise ValueError("needs a 'channel' name of letters, digits, _ . -")
+    template = str(entry.get("fileName", default_template))
+    _check_template(template)
+    fmt = str(entry.get("fileFormat", "png")).lower()
+    fmt = _FORMAT_ALIASES.get(fmt, fmt)
+    if fmt not in FORMATS:
+        raise ValueError(f"fileFormat {fmt!r} is not one of {', '.join(FORMATS)}")
+    _, depths, counts = FORMATS[fmt]
+    depth = _BIT_DEPTHS.get(str(entry.get("bitDepth", depths[0])).lower())
+    if depth not in depths:
+        raise ValueError(f"{fmt} cannot hold bitDepth {entry.get('bitDepth')!r}; use {depths}")
+    color_space = str(entry.get("colorSpace", "srgb")).lower()
+    if color_space not in _COLOR_SPACES:
+        raise ValueError(f"colorSpace must be srgb or linear, got {color_space!r}")
+    whole = entry.get("srcMapName")
+    raw_channels = entry.get("channels")
+    if (whole is None) == (raw_channels is None):
+        raise ValueError("give either 'srcMapName' (a whole parameter) or 'channels'")
+    channels = None
+    if raw_channels is not None:
+        if not isinstance(raw_channels, list) or not raw_channels:
+            raise ValueError("'channels' must be a non-empty list")
+        channels = tuple(_parse_channel(c) for c in raw_channels)
+        dests = sorted(c.dest for c in channels)
+        if dests != list(range(len(dests))):
+            raise ValueError(f"destChannel must fill R, G, B, A from R without gaps, got {dests}")
+        if counts is not None and len(dests) not in counts:
+            raise ValueError(f"{fmt} cannot hold {len(dests)} channels")
+        channels = tuple(sorted(channels, key=lambda c: c.dest))
+    elif not isinstance(whole, str) or not whole:
+        raise ValueError("'srcMapName' must be a parameter name")
+    return OutputSpec(
+        channel=channel,
+        file_name=template,
+        format=fmt,
+        bit_depth=depth,
+        color_space=color_space,
+        channels=channels,
+        source=whole,
+        optional=bool(entry.get("optional", False)),
+        dithering=bool(entry.get("dithering", True)),
+    )
+
+
+def _parse_channel(entry: Any) -> ChannelSpec:
+    if not isinstance(entry, dict):
+        raise ValueError("each channel must be a table")
+    dest = _channel_index(entry.get("destChannel"), "destChannel")
+    source = entry.get("srcMapName")
+    value = entry.get("value", entry.get("default"))
+    if value is not None and (isinstance(value, bool) or not isinstance(value, int | float)):
+        raise ValueError(f"value/default must be a number, got {value!r}")
+    if source is None and "value" not in entry:
+        raise ValueError(f"channel {entry.get('destChannel')}: give 'srcMapName' or 'value'")
+    transform = str(entry.get("transform", "none")).lower()
+    if transform not in _TRANSFORMS:
+        raise ValueError(f"transform must be one of {_TRANSFORMS}, got {transform!r}")
+    return ChannelSpec(
+        dest=dest,
+        source=None if source is None else str(source),
+        source_channel=_channel_index(entry.get("srcChannel", 0), "srcChannel"),
+        transform=transform,
+        value=None if value is None else float(value),
+    )
+
+
+def _channel_index(value: Any, what: str) -> int:
+    if isinstance(value, int) and not isinstance(value, bool) and value >= 0:
+        return value
+    if isinstance(value, str) and value.upper() in _CHANNEL_LETTERS:
+        return _CHANNEL_LETTERS[value.upper()]
+    raise ValueError(f"{what} must be R, G, B, A (or an index), got {value!r}")
+
+
+def _check_template(template: str) -> None:
+    unknown = set(_TEMPLATE_TOKEN.findall(template)) - _TEMPLATE_FIELDS
+    if unknown:
+        raise ValueError(
+            f"fileName {template!r} uses unknown fields {sorted(unknown)}; "
+            f"known: {', '.join('{' + f + '}' for f in sorted(_TEMPLATE_FIELDS))}"
+        )
+    if "/" in template or "\\" in template or template.startswith("."):
+        raise ValueError(f"fileName {template!r} must be a plain file name")
+    if "{ext}" not in template and not re.search(r"\.[A-Za-z]+$", template):
+        raise ValueError(f"fileName {template!r} needs an extension or {{ext}}")

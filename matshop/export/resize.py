@@ -1,0 +1,86 @@
+"""Resizing a material for export: power-of-two sizes, filtered in editing space.
+
+Engines want power-of-two textures (mip chains, block compression). The
+filter is a separable Lanczos-3 widened by the reduction factor (so a
+downscale is properly low-passed, not aliased), applied with periodic
+wrap-around because texture sets tile. It runs on the material's *edit-space*
+channels, which is matshop's point: a linear filter there means the right
+thing for every parameter (colors averaged in linear light, roughness in
+alpha = r^2, normals as rotations, sampled distributions as inverse CDFs),
+and ``from_edit`` clamps whatever the filter's negative lobes overshoot.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse
+
+from ..errors import MatshopError
+from ..material import EditMaterial, Material
+
+_LOBES = 3
+
+
+def is_power_of_two(n: int) -> bool:
+    return n > 0 and n & (n - 1) == 0
+
+
+def target_size(size_hw: tuple[int, int], longest: int) -> tuple[int, int]:
+    """(height, width) with the longer side ``longest`` (a power of two) and
+    the other side the power of two nearest the original aspect ratio."""
+    if not is_power_of_two(longest):
+        raise MatshopError(f"--size must be a power of two (256, 512, 1024...), got {longest}")
+    height, width = size_hw
+    ratio = min(height, width) / max(height, width)
+    short = 2 ** max(0, round(np.log2(max(longest * ratio, 1.0))))
+    return (longest, short) if height >= width else (short, longest)
+
+
+def resampling_matrix(n_in: int, n_out: int) -> scipy.sparse.csr_matrix:
+    """Sparse ``(n_out, n_in)`` Lanczos-3 weights with periodic wrap; rows sum to 1.
+
+    Texel centres are aligned (``x_in = (x_out + 0.5) * n_in / n_out - 0.5``);
+    for a reduction the kernel is stretched by the factor, which is what
+    makes it an anti-aliasing filter.
+    """
+    scale = n_in / n_out
+    stretch = max(scale, 1.0)
+    support = _LOBES * stretch
+    centres = (np.arange(n_out) + 0.5) * scale - 0.5
+    taps = int(np.ceil(2 * support)) + 1
+    first = np.floor(centres - support).astype(np.int64) + 1
+    index = first[:, None] + np.arange(taps)[None, :]
+    x = (index - centres[:, None]) / stretch
+    weights = np.sinc(x) * np.sinc(x / _LOBES) * (np.abs(x) < _LOBES)
+    weights /= weights.sum(axis=1, keepdims=True)
+    rows = np.repeat(np.arange(n_out), taps)
+    # duplicate (row, col) pairs from wrapping are summed by the constructor
+    return scipy.sparse.csr_matrix(
+        (weights.ravel(), (rows, (index % n_in).ravel())), shape=(n_out, n_in)
+    )
+
+
+def resize_array(array: np.ndarray, size_hw: tuple[int, int]) -> np.ndarray:
+    """Resample ``(H, W, C)`` float data to ``size_hw`` (periodic Lanczos-3)."""
+    height, width, channels = array.shape
+    new_h, new_w = size_hw
+    data = np.asarray(array, dtype=np.float32)
+    if new_h != height:
+        rows = resampling_matrix(height, new_h)
+        data = (rows @ data.reshape(height, -1)).reshape(new_h, width, channels)
+    if new_w != width:
+        cols = resampling_matrix(width, new_w)
+        moved = np.ascontiguousarray(data.transpose(1, 0, 2)).reshape(width, -1)
+        data = (cols @ moved).reshape(new_w, new_h, channels).transpose(1, 0, 2)
+    return np.ascontiguousarray(data, dtype=np.float32)
+
+
+def resize_material(material: Material, size_hw: tuple[int, int]) -> Material:
+    """``material`` resampled to ``size_hw``, filtered in editing space."""
+    if tuple(size_hw) == tuple(material.size):
+        return material
+    edit = material.to_edit()
+    smaller = EditMaterial(edit.name, edit.schema, resize_array(edit.data, size_hw), edit.sources)
+    resized = smaller.to_physical()
+    resized.sources = {k: dict(v) for k, v in material.sources.items()}
+    return resized

@@ -1,0 +1,111 @@
+"""The ``matshop export`` command.
+
+Only the standard library is imported at module level: ``matshop --help``
+builds every verb's parser, and numpy/OpenImageIO load only when an export
+actually runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+VERB_MODULE = "matshop.export.verbs"
+
+_DESCRIPTION = """\
+Load the texture set IN (a folder or one of its maps) and write what an engine
+loads into the folder OUT, as the preset says: file names, channel packing
+(ORM, Unity metallic-smoothness and mask maps), color encoding, bit depth,
+format and normal convention. 8-bit outputs are dithered; nothing is written
+unless every file succeeds; existing files are replaced only with --force.
+"""
+
+_EPILOG = """\
+examples:
+  matshop export in/ out/ --preset unreal
+  matshop export in/ out/ --preset gltf --glb --mtlx --size 1024
+  matshop export in/ out/ --preset-file studio.toml --strict
+  matshop export --list-presets
+"""
+
+
+def add_parsers(verbs: argparse._SubParsersAction) -> None:
+    parser = verbs.add_parser(
+        "export",
+        help="write a texture set for an engine (Unreal, Unity, glTF, Godot, raw)",
+        description=_DESCRIPTION,
+        epilog=_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "input", type=Path, nargs="?", metavar="IN", help="texture folder, map or .matshop project"
+    )
+    parser.add_argument("output", type=Path, nargs="?", metavar="OUT", help="output folder")
+    parser.add_argument("--preset", help="built-in preset name (see --list-presets)")
+    parser.add_argument(
+        "--preset-file", type=Path, help="your own preset, JSON or TOML (Substance-like shape)"
+    )
+    parser.add_argument(
+        "--list-presets", action="store_true", help="list the built-in presets and exit"
+    )
+    parser.add_argument(
+        "--size", type=int, metavar="N", help="longest side in texels, a power of two"
+    )
+    parser.add_argument("--name", help="material name in file names (default: the set's name)")
+    parser.add_argument("--glb", action="store_true", help="also write <name>.glb with a mesh")
+    parser.add_argument("--mesh", type=Path, help="Wavefront OBJ for --glb (default: a UV sphere)")
+    parser.add_argument(
+        "--mtlx", action="store_true", help="also write <name>.mtlx (MaterialX gltf_pbr)"
+    )
+    parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="fail when the preset needs a parameter the material lacks "
+        "(default: fill it with the engine's default and say so)",
+    )
+    parser.add_argument("--force", action="store_true", help="overwrite existing files")
+    parser.add_argument(
+        "--normal-convention",
+        choices=("opengl", "directx"),
+        help="green channel convention of the input normal map (default: from the "
+        "file name, else guessed)",
+    )
+    parser.set_defaults(verb_module=VERB_MODULE)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..errors import MatshopError
+    from .presets import builtin_preset_names, load_preset
+
+    if args.list_presets:
+        for name in builtin_preset_names():
+            preset = load_preset(name)
+            print(f"{name:12s} {preset.description}")
+        return 0
+    if args.input is None or args.output is None:
+        raise MatshopError("export needs IN and OUT (or --list-presets)")
+    if (args.preset is None) == (args.preset_file is None):
+        raise MatshopError("give exactly one of --preset NAME or --preset-file FILE")
+    if args.mesh is not None and not args.glb:
+        raise MatshopError("--mesh is only used with --glb")
+    preset = load_preset(args.preset, path=args.preset_file)
+
+    from ..io.inputs import load_flattened
+    from .core import export_material
+
+    material = load_flattened(args.input, normal_convention=args.normal_convention)
+    summary = export_material(
+        material,
+        preset,
+        args.output,
+        name=args.name,
+        size=args.size,
+        strict=args.strict,
+        force=args.force,
+        glb=args.glb,
+        mesh=args.mesh,
+        mtlx=args.mtlx,
+    )
+    for line in summary.lines():
+        print(line)
+    return 0

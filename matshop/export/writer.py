@@ -1,0 +1,119 @@
+"""All-or-nothing writing of a set of files into one folder.
+
+An export is several files that only make sense together (a material whose
+ORM is new but whose normal map is old is wrong in an engine). So every file
+is first written into a hidden staging folder beside its target; only when
+all of them succeeded are they renamed into place. A failure while writing
+leaves the folder as it was. Renames are atomic one by one; if a rename
+fails half way, the files already moved are taken back out and the old ones
+(kept as hard links, or copies) are put back.
+
+Existing files are replaced only with ``force``; the check runs before any
+work, so a refused export costs nothing.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import MatshopError
+
+
+@dataclass(frozen=True)
+class PendingFile:
+    """A file to write: its name in the output folder and how to write it."""
+
+    name: str
+    #: writes the complete file at the given (staging) path
+    write: Callable[[Path], None]
+
+
+def check_targets(out_dir: Path, names: Sequence[str], *, force: bool) -> None:
+    """Refuse clashes with existing files (without ``force``) and bad folders."""
+    if out_dir.exists() and not out_dir.is_dir():
+        raise MatshopError("output exists and is not a folder", out_dir)
+    if len(set(names)) != len(names):
+        raise MatshopError("the export would write one file name twice", out_dir)
+    existing = [n for n in names if (out_dir / n).exists()]
+    if existing and not force:
+        more = f" and {len(existing) - 1} more" if len(existing) > 1 else ""
+        raise MatshopError(
+            f"{existing[0]}{more} already exist(s); use --force to overwrite", out_dir
+        )
+    for name in existing:
+        if (out_dir / name).is_dir():
+            raise MatshopError("is a folder, cannot overwrite it with a file", out_dir / name)
+
+
+def write_one(pending: PendingFile, path: Path) -> None:
+    """Write one staged file (a seam: tests replace it to simulate failures)."""
+    pending.write(path)
+
+
+def write_all(
+    out_dir: str | os.PathLike, files: Sequence[PendingFile], *, force: bool
+) -> list[Path]:
+    """Write ``files`` into ``out_dir`` all-or-nothing; return the final paths."""
+    out = Path(out_dir)
+    names = [f.name for f in files]
+    check_targets(out, names, force=force)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".matshop-export-", dir=out))
+    except OSError as exc:
+        raise MatshopError(f"cannot write here: {exc.strerror or exc}", out) from None
+    try:
+        for pending in files:
+            try:
+                write_one(pending, staging / pending.name)
+            except OSError as exc:
+                raise MatshopError(
+                    f"cannot write: {exc.strerror or exc}", out / pending.name
+                ) from None
+        return _move_into_place(staging, out, names)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _move_into_place(staging: Path, out: Path, names: Sequence[str]) -> list[Path]:
+    backup = staging / ".previous"
+    backup.mkdir()
+    kept: list[str] = []
+    moved: list[str] = []
+    try:
+        for name in names:
+            target = out / name
+            if target.exists():
+                _keep(target, backup / name)
+                kept.append(name)
+            os.replace(staging / name, target)
+            moved.append(name)
+    except OSError as exc:
+        for name in moved:
+            with contextlib.suppress(OSError):
+                os.unlink(out / name)
+        for name in kept:
+            with contextlib.suppress(OSError):
+                os.replace(backup / name, out / name)
+        raise MatshopError(f"cannot write: {exc.strerror or exc}", out) from None
+    with contextlib.suppress(OSError):
+        fd = os.open(out, os.O_RDONLY)
+        try:
+            os.fsync(fd)  # make the renames durable
+        finally:
+            os.close(fd)
+    return [out / name for name in names]
+
+
+def _keep(target: Path, copy: Path) -> None:
+    """A second name for ``target``'s current content, to restore it on failure."""
+    try:
+        os.link(target, copy)
+    except OSError:
+        shutil.copy2(target, copy)

@@ -1,0 +1,102 @@
+"""What every canvas tool is and what it may ask of the editor.
+
+Tools turn pointer input in texel coordinates into document edits. They are
+kept free of widgets: the canvas maps mouse and tablet events to
+:class:`ToolEvent` (continuous texel coordinates, pressure 1.0 for a mouse)
+and the editor implements :class:`ToolHost`, so a tool can be driven by a
+test or a script exactly as by a pen.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
+
+if TYPE_CHECKING:
+    from ..layers import Document, Edit
+    from ..paint import Brush, Swatch
+
+
+@dataclass(frozen=True)
+class ToolEvent:
+    """One pointer event: texel position (continuous, (0, 0) top-left), pressure, modifiers."""
+
+    x: float
+    y: float
+    pressure: float = 1.0
+    alt: bool = False
+    ctrl: bool = False
+    shift: bool = False
+
+    @property
+    def pick(self) -> bool:
+        """Alt or Ctrl held: the "pick a source / a color" gesture of paint programs."""
+        return self.alt or self.ctrl
+
+
+class ToolHost(Protocol):
+    """The editor as a tool sees it."""
+
+    @property
+    def doc(self) -> Document | None: ...
+
+    def brush(self) -> Brush: ...
+
+    def swatch(self) -> Swatch:
+        """The material to paint (raises ValueError when no parameter is enabled)."""
+        ...
+
+    def pick_swatch(self, x: int, y: int) -> None:
+        """Eyedropper: set the swatch from the flattened physical values at texel (x, y)."""
+        ...
+
+    def stroke_layer(self, create: bool, parameters: tuple[str, ...] | None) -> int | None:
+        """Id of the paint layer strokes go into; with ``create``, add one affecting
+        ``parameters`` (None: all) if the active layer cannot take paint. None (after
+        telling the user) if there is none."""
+        ...
+
+    def push(self, edit: Edit) -> None:
+        """Record an already applied edit as one undo step."""
+        ...
+
+    def message(self, text: str) -> None:
+        """Tell the user something short (status bar)."""
+        ...
+
+
+class Tool:
+    """A canvas tool: press starts, move continues, release finishes."""
+
+    name = "tool"
+    label = "Tool"
+    shortcut = ""
+    tip = ""
+
+    def __init__(self, host: ToolHost) -> None:
+        self.host = host
+
+    @property
+    def busy(self) -> bool:
+        """A stroke is in progress."""
+        return False
+
+    def press(self, event: ToolEvent) -> None:
+        pass
+
+    def move(self, event: ToolEvent) -> None:
+        pass
+
+    def release(self, event: ToolEvent) -> None:
+        pass
+
+    def cancel(self) -> None:
+        """Abandon what is in progress (Escape, a document change)."""
+
+    def cursor_radius(self) -> float | None:
+        """Radius in texels of the outline to draw around the cursor (None: none)."""
+        return None
+
+    def markers(self, x: float, y: float) -> list[tuple[float, float]]:
+        """Texel points to mark while the cursor is at (x, y) (a clone source)."""
+        return []

@@ -1,0 +1,178 @@
+"""Brush, eraser, clone stamp and eyedropper: pointer events -> strokes on the document.
+
+Each stroke is one :class:`~matshop.paint.StrokeSession`: press starts it,
+every move feeds it a sample, release ends it and hands the single edit to
+the host's history, so a stroke is one undo step. Engine refusals (a swatch
+that does not cover the layer's parameters...) become a status message, never
+an exception in the event loop.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..paint import StrokeSample, StrokeSession
+from .base import Tool, ToolEvent, ToolHost
+
+
+def _sample(event: ToolEvent) -> StrokeSample:
+    return StrokeSample(event.x, event.y, min(max(event.pressure, 0.0), 1.0))
+
+
+class StrokeTool(Tool):
+    """Base of the tools that paint with a :class:`StrokeSession`."""
+
+    mode = "paint"
+    creates_layer = True
+
+    def __init__(self, host: ToolHost) -> None:
+        super().__init__(host)
+        self._session: StrokeSession | None = None
+
+    @property
+    def busy(self) -> bool:
+        return self._session is not None
+
+    def _options(self, event: ToolEvent) -> dict | None:
+        """Extra StrokeSession options for this stroke (None: do not start one)."""
+        return {}
+
+    def press(self, event: ToolEvent) -> None:
+        doc = self.host.doc
+        if doc is None or self._session is not None:
+            return
+        options = self._options(event)
+        if options is None:
+            return
+        swatch = options.get("swatch")
+        layer_id = self.host.stroke_layer(
+            create=self.creates_layer, parameters=None if swatch is None else swatch.parameters
+        )
+        if layer_id is None:
+            return
+        try:
+            self._session = StrokeSession(
+                doc, layer_id, self.host.brush(), mode=self.mode, **options
+            )
+        except ValueError as exc:  # the engine's sentence says what to change
+            self.host.message(str(exc))
+            return
+        self._session.add([_sample(event)])
+
+    def move(self, event: ToolEvent) -> None:
+        if self._session is not None:
+            self._session.add([_sample(event)])
+
+    def release(self, event: ToolEvent) -> None:
+        session, self._session = self._session, None
+        if session is None:
+            return
+        session.add([_sample(event)])
+        edit = session.end()
+        if edit is not None:
+            self.host.push(edit)
+
+    def cancel(self) -> None:
+        session, self._session = self._session, None
+        if session is not None:
+            session.cancel()
+
+    def cursor_radius(self) -> float | None:
+        return self.host.brush().radius_px
+
+
+class BrushTool(StrokeTool):
+    """Paints the swatch (every enabled parameter at once); Alt/Ctrl-click picks it."""
+
+    name = "brush"
+    label = "Brush"
+    shortcut = "B"
+    tip = "Paint the swatch into the active paint layer (Alt-click picks the swatch)"
+
+    def _options(self, event: ToolEvent) -> dict | None:
+        if event.pick:
+            self.host.pick_swatch(int(math.floor(event.x)), int(math.floor(event.y)))
+            return None
+        try:
+            return {"swatch": self.host.swatch()}
+        except ValueError as exc:
+            self.host.message(str(exc))
+            return None
+
+
+class EraserTool(StrokeTool):
+    """Removes paint (coverage) from the active paint layer."""
+
+    name = "eraser"
+    label = "Eraser"
+    shortcut = "E"
+    tip = "Erase paint from the active paint layer"
+    mode = "erase"
+    creates_layer = False
+
+
+class CloneTool(StrokeTool):
+    """Clone stamp: Alt/Ctrl-click sets the source; the first stroke fixes the offset.
+
+    The offset (source minus destination) is kept for later strokes, like
+    Photoshop's aligned mode, until a new source is set.
+    """
+
+    name = "clone"
+    label = "Clone stamp"
+    shortcut = "S"
+    tip = "Alt-click sets the source, then paint to copy from it (offset is kept)"
+    mode = "clone"
+
+    def __init__(self, host: ToolHost) -> None:
+        super().__init__(host)
+        self.source: tuple[float, float] | None = None
+        self.offset: tuple[float, float] | None = None
+
+    def _options(self, event: ToolEvent) -> dict | None:
+        if event.pick:
+            self.source = (event.x, event.y)
+            self.offset = None
+            self.host.message(f"Clone source set at {int(event.x)}, {int(event.y)}")
+            return None
+        if self.offset is None:
+            if self.source is None:
+                self.host.message("Alt-click (or Ctrl-click) to set the clone source first")
+                return None
+            self.offset = (self.source[0] - event.x, self.source[1] - event.y)
+        return {"clone_offset": self.offset}
+
+    def markers(self, x: float, y: float) -> list[tuple[float, float]]:
+        if self.offset is not None:
+            return [(x + self.offset[0], y + self.offset[1])]
+        return [self.source] if self.source is not None else []
+
+
+class EyedropperTool(Tool):
+    """Sets the swatch from the flattened physical values under the cursor."""
+
+    name = "eyedropper"
+    label = "Eyedropper"
+    shortcut = "I"
+    tip = "Pick the swatch (all parameters) from the flattened material"
+
+    def __init__(self, host: ToolHost) -> None:
+        super().__init__(host)
+        self._down = False
+
+    def _pick(self, event: ToolEvent) -> None:
+        self.host.pick_swatch(int(math.floor(event.x)), int(math.floor(event.y)))
+
+    def press(self, event: ToolEvent) -> None:
+        self._down = True
+        self._pick(event)
+
+    def move(self, event: ToolEvent) -> None:
+        if self._down:
+            self._pick(event)
+
+    def release(self, event: ToolEvent) -> None:
+        self._down = False
+
+
+TOOL_CLASSES: tuple[type[Tool], ...] = (BrushTool, EraserTool, CloneTool, EyedropperTool)

@@ -1,0 +1,180 @@
+"""The brush settings and the swatch being painted, as observable Qt objects.
+
+Panels edit them, tools read them when a stroke starts, the project stores
+them (``to_json``). The swatch keeps *physical* values for every parameter
+of the document plus which parameters the brush paints, so switching a
+parameter off and on again keeps its value.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from PySide6.QtCore import QObject, Signal
+
+from ..layers import Document, Rect
+from ..paint import Brush, Swatch
+
+#: Labels that fit a narrow panel (the schema's labels are descriptive: "Roughness (GGX)").
+SHORT_LABELS = {
+    "base_color": "Base color",
+    "roughness": "Roughness",
+    "metallic": "Metallic",
+    "normal": "Normal",
+    "ao": "Occlusion",
+    "phong_exponent": "Phong n",
+    "anisotropic_exponents": "Aniso n",
+    "beckmann_roughness": "Beckmann m",
+    "distribution": "Distribution",
+    "profile": "Subsurface",
+}
+
+
+def short_label(parameter: str) -> str:
+    return SHORT_LABELS.get(parameter, parameter.replace("_", " ").capitalize())
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One brush setting as a panel shows it."""
+
+    name: str
+    label: str
+    lo: float
+    hi: float
+    default: float
+    log: bool = False
+    unit: str = ""
+    tip: str = ""
+
+
+BRUSH_SETTINGS: tuple[Setting, ...] = (
+    Setting("radius_px", "Size", 0.5, 512.0, 16.0, log=True, unit="px", tip="Radius in texels"),
+    Setting("hardness", "Hardness", 0.0, 1.0, 0.6, tip="Fraction painted at full strength"),
+    Setting("spacing", "Spacing", 0.01, 2.0, 0.12, log=True, tip="Dab distance / diameter"),
+    Setting("opacity", "Opacity", 0.0, 1.0, 1.0, tip="Most one stroke can cover"),
+    Setting("flow", "Flow", 0.01, 1.0, 1.0, tip="Strength of each dab (low flow builds up)"),
+)
+
+
+class BrushSettings(QObject):
+    """Size, hardness, spacing, opacity and flow of the painting tools."""
+
+    changed = Signal()
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.values = {s.name: s.default for s in BRUSH_SETTINGS}
+
+    def brush(self) -> Brush:
+        return Brush(**self.values)
+
+    def set(self, name: str, value: float) -> None:
+        spec = next(s for s in BRUSH_SETTINGS if s.name == name)
+        value = min(max(float(value), spec.lo), spec.hi)
+        if value != self.values[name]:
+            self.values[name] = value
+            self.changed.emit()
+
+    def scale_radius(self, factor: float) -> None:
+        """``[`` and ``]``: size steps proportional to the size, like every paint program."""
+        self.set("radius_px", self.values["radius_px"] * factor)
+
+    def to_json(self) -> dict[str, float]:
+        return dict(self.values)
+
+    def load_json(self, data: Any) -> None:
+        if isinstance(data, dict):
+            for spec in BRUSH_SETTINGS:
+                if isinstance(data.get(spec.name), int | float):
+                    self.set(spec.name, data[spec.name])
+
+
+#: Physical defaults of a fresh swatch: a rusty iron a user can see on any material.
+_DEFAULTS: dict[str, tuple[float, ...]] = {
+    "base_color": (0.42, 0.12, 0.035),
+    "diffuse": (0.42, 0.12, 0.035),
+    "specular": (0.04, 0.04, 0.04),
+    "emissive": (0.0, 0.0, 0.0),
+    "metallic": (0.0,),
+    "roughness": (0.75,),
+    "ao": (1.0,),
+    "opacity": (1.0,),
+    "transmission": (0.0,),
+    "height": (0.5,),
+    "normal": (0.0, 0.0, 1.0),
+}
+
+
+class SwatchModel(QObject):
+    """Physical values for each parameter and which ones the brush paints."""
+
+    changed = Signal()
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.values: dict[str, tuple[float, ...]] = {}
+        self.enabled: list[str] = []
+        self.name = "Swatch"
+
+    def reset(self, doc: Document) -> None:
+        """Defaults for ``doc``'s parameters; ones without a default come from the centre texel."""
+        centre = doc.physical(_centre_rect(doc), copy=False)
+        values: dict[str, tuple[float, ...]] = {}
+        for param in doc.schema.parameters:
+            default = _DEFAULTS.get(param.name)
+            if default is not None and len(default) == param.phys_channels:
+                values[param.name] = default
+            else:  # wide parameters, frames with tangents: what the material has
+                values[param.name] = tuple(np.asarray(centre[param.name]).ravel().tolist())
+        self.values = values
+        self.enabled = list(doc.schema.names)
+        self.changed.emit()
+
+    def swatch(self) -> Swatch:
+        """The swatch strokes paint: only the enabled parameters."""
+        chosen = {p: self.values[p] for p in self.enabled if p in self.values}
+        if not chosen:
+            raise ValueError("the swatch paints no parameter: enable one in the swatch panel")
+        return Swatch(self.name, chosen)
+
+    def set_value(self, parameter: str, value: tuple[float, ...]) -> None:
+        self.values[parameter] = tuple(float(v) for v in value)
+        self.changed.emit()
+
+    def set_enabled(self, parameter: str, on: bool) -> None:
+        names = [p for p in self.values if (p in self.enabled or p == parameter)]
+        self.enabled = [p for p in names if on or p != parameter]
+        self.changed.emit()
+
+    def pick(self, swatch: Swatch) -> None:
+        """Take every value of ``swatch`` (the eyedropper); enabled parameters stay."""
+        for parameter, value in swatch.values.items():
+            if parameter in self.values:
+                self.values[parameter] = tuple(value)
+        self.changed.emit()
+
+    def to_json(self) -> dict[str, Any]:
+        return {"values": {k: list(v) for k, v in self.values.items()}, "enabled": self.enabled}
+
+    def load_json(self, data: Any) -> None:
+        """Restore saved values where they still fit the document's parameters."""
+        if not isinstance(data, dict):
+            return
+        saved = data.get("values", {})
+        if isinstance(saved, dict):
+            for name, value in saved.items():
+                old = self.values.get(name)
+                if old is not None and isinstance(value, list) and len(value) == len(old):
+                    self.values[name] = tuple(float(v) for v in value)
+        enabled = data.get("enabled")
+        if isinstance(enabled, list):
+            self.enabled = [p for p in self.values if p in enabled]
+        self.changed.emit()
+
+
+def _centre_rect(doc: Document) -> Rect:
+    x, y = doc.width // 2, doc.height // 2
+    return Rect(x, y, x + 1, y + 1)

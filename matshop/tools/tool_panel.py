@@ -1,0 +1,229 @@
+"""The tool panel: brush sliders and the swatch editor.
+
+The swatch editor has one row per parameter of the document: a check box
+(does the brush paint it?) and an editor suited to the parameter: a color
+button for colors, a slider for scalars, two tilt sliders for normals; wide
+parameters (sampled distributions, profiles) are set with the eyedropper.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QColorDialog,
+    QGridLayout,
+    QGroupBox,
+    QLabel,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..material import Parameter, Schema
+from .settings import BRUSH_SETTINGS, BrushSettings, SwatchModel, short_label
+from .widgets import ColorButton, FloatSlider, discard_widget
+
+ColorPicker = Callable[[QColor, QWidget], QColor | None]
+
+
+def _srgb_encode(linear: float) -> float:
+    linear = min(max(linear, 0.0), 1.0)
+    return 12.92 * linear if linear <= 0.0031308 else 1.055 * linear ** (1 / 2.4) - 0.055
+
+
+def _srgb_decode(encoded: float) -> float:
+    return encoded / 12.92 if encoded <= 0.04045 else ((encoded + 0.055) / 1.055) ** 2.4
+
+
+def linear_to_qcolor(rgb: tuple[float, ...]) -> QColor:
+    return QColor.fromRgbF(*(_srgb_encode(c) for c in rgb[:3]))
+
+
+def qcolor_to_linear(color: QColor) -> tuple[float, float, float]:
+    return tuple(_srgb_decode(c) for c in (color.redF(), color.greenF(), color.blueF()))
+
+
+def _ask_color(initial: QColor, parent: QWidget) -> QColor | None:
+    color = QColorDialog.getColor(initial, parent, "Swatch color")
+    return color if color.isValid() else None
+
+
+class BrushPanel(QGroupBox):
+    """Size, hardness, spacing, opacity and flow sliders."""
+
+    def __init__(self, settings: BrushSettings, parent: QWidget | None = None) -> None:
+        super().__init__("Brush", parent)
+        self.settings = settings
+        layout = QVBoxLayout(self)
+        layout.setSpacing(2)
+        self.sliders: dict[str, FloatSlider] = {}
+        for spec in BRUSH_SETTINGS:
+            slider = FloatSlider(
+                spec.label,
+                spec.lo,
+                spec.hi,
+                settings.values[spec.name],
+                log=spec.log,
+                decimals=1 if spec.name == "radius_px" else 2,
+                unit=spec.unit,
+                tip=spec.tip,
+            )
+            slider.edited.connect(lambda value, name=spec.name: settings.set(name, value))
+            layout.addWidget(slider)
+            self.sliders[spec.name] = slider
+        settings.changed.connect(self._sync)
+
+    def _sync(self) -> None:
+        for name, slider in self.sliders.items():
+            slider.set_value(self.settings.values[name])
+
+
+class SwatchEditor(QGroupBox):
+    """Which parameters the brush paints, and their physical values."""
+
+    def __init__(
+        self,
+        model: SwatchModel,
+        parent: QWidget | None = None,
+        pick_color: ColorPicker = _ask_color,
+    ) -> None:
+        super().__init__("Swatch", parent)
+        self.model = model
+        self.pick_color = pick_color  # replaceable: tests must not open a modal dialog
+        self._grid = QGridLayout(self)
+        self._grid.setHorizontalSpacing(8)
+        self._grid.setVerticalSpacing(4)
+        self._grid.setColumnStretch(1, 1)
+        self.checks: dict[str, QCheckBox] = {}
+        self._syncers: list[Callable[[], None]] = []
+        self._empty = QLabel("No document")
+        self._empty.setObjectName("hint")
+        self._grid.addWidget(self._empty, 0, 0)
+        model.changed.connect(self._sync)
+
+    def set_schema(self, schema: Schema | None) -> None:
+        while self._grid.count():
+            item = self._grid.takeAt(0)
+            if item.widget() is not None and item.widget() is not self._empty:
+                discard_widget(item.widget())
+        self.checks.clear()
+        self._syncers.clear()
+        if schema is None:
+            self._grid.addWidget(self._empty, 0, 0)
+            self._empty.show()
+            return
+        self._empty.hide()
+        row = 0
+        for param in schema.parameters:
+            check = QCheckBox(short_label(param.name))
+            check.setToolTip(f"Paint {param.label} ({param.space.name} editing space)")
+            check.toggled.connect(lambda on, name=param.name: self.model.set_enabled(name, on))
+            self.checks[param.name] = check
+            self._grid.addWidget(check, row, 0)
+            row = self._add_editor(param, row)
+        hint = QLabel("Alt-click with the brush or use the eyedropper (I) to pick all values.")
+        hint.setObjectName("hint")
+        hint.setWordWrap(True)
+        self._grid.addWidget(hint, row, 0, 1, 2)
+        self._sync()
+
+    def _add_editor(self, param: Parameter, row: int) -> int:
+        """Put the value editor of ``param`` on ``row``; returns the next free row."""
+        name = param.name
+        space = param.space.name
+        if space in ("srgb", "gamma22"):
+            button = ColorButton()
+            button.clicked.connect(lambda _=False, n=name, b=button: self._choose_color(n, b))
+            self._grid.addWidget(button, row, 1)
+            self._syncers.append(lambda n=name, b=button: b.set_color(self._qcolor(n)))
+            return row + 1
+        if space.startswith("normal"):
+            return self._add_normal(name, row)
+        if param.phys_channels == 1:
+            exponent = space.startswith("phong")
+            slider = FloatSlider(
+                "", 1.0 if exponent else 0.0, 10000.0 if exponent else 1.0, 0.5, log=exponent
+            )
+            slider.label.hide()
+            slider.edited.connect(lambda v, n=name: self.model.set_value(n, (v,)))
+            self._grid.addWidget(slider, row, 1)
+            self._syncers.append(lambda n=name, s=slider: s.set_value(self.model.values[n][0]))
+            return row + 1
+        note = QLabel(f"{param.phys_channels} values (eyedropper)")
+        note.setObjectName("hint")
+        self._grid.addWidget(note, row, 1)
+        return row + 1
+
+    def _add_normal(self, name: str, row: int) -> int:
+        sliders = []
+        for axis, label in ((0, "Tilt X"), (1, "Tilt Y")):
+            slider = FloatSlider(label, -0.95, 0.95, 0.0, tip="Normal tilt (unit vector)")
+            slider.label.setMinimumWidth(40)
+            slider.edited.connect(lambda v, a=axis, n=name: self._tilt(n, a, v))
+            self._grid.addWidget(slider, row + axis, 1)
+            sliders.append(slider)
+
+        def sync(n: str = name) -> None:
+            for axis, slider in enumerate(sliders):
+                slider.set_value(self.model.values[n][axis])
+
+        self._syncers.append(sync)
+        return row + 2
+
+    def _tilt(self, name: str, axis: int, value: float) -> None:
+        vector = list(self.model.values[name])
+        vector[axis] = value
+        x, y = vector[0], vector[1]
+        z = math.sqrt(max(1.0 - x * x - y * y, 1e-4))
+        norm = float(np.linalg.norm([x, y, z]))
+        self.model.set_value(name, (x / norm, y / norm, z / norm, *vector[3:]))
+
+    def _qcolor(self, name: str) -> QColor:
+        return linear_to_qcolor(self.model.values[name])
+
+    def _choose_color(self, name: str, button: ColorButton) -> None:
+        color = self.pick_color(self._qcolor(name), self)
+        if color is not None:
+            self.model.set_value(name, qcolor_to_linear(color))
+
+    def _sync(self) -> None:
+        for name, check in self.checks.items():
+            check.blockSignals(True)
+            check.setChecked(name in self.model.enabled)
+            check.blockSignals(False)
+        for sync in self._syncers:
+            sync()
+
+
+class ToolPanel(QWidget):
+    """The tool's name and hint, the brush settings and the swatch."""
+
+    def __init__(
+        self, brush: BrushSettings, swatch: SwatchModel, parent: QWidget | None = None
+    ) -> None:
+        super().__init__(parent)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(8, 8, 8, 8)
+        layout.setSpacing(8)
+        self.title = QLabel("Brush")
+        self.title.setObjectName("heading")
+        self.hint = QLabel("")
+        self.hint.setObjectName("hint")
+        self.hint.setWordWrap(True)
+        self.brush_panel = BrushPanel(brush)
+        self.swatch_editor = SwatchEditor(swatch)
+        layout.addWidget(self.title)
+        layout.addWidget(self.hint)
+        layout.addWidget(self.brush_panel)
+        layout.addWidget(self.swatch_editor)
+        layout.addStretch(1)
+
+    def show_tool(self, label: str, tip: str, uses_brush: bool, uses_swatch: bool) -> None:
+        self.title.setText(label)
+        self.hint.setText(tip)
+        self.brush_panel.setEnabled(uses_brush)
+        self.swatch_editor.setEnabled(uses_swatch)

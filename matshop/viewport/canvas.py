@@ -1,0 +1,341 @@
+"""The 2D texture canvas: one parameter of the flattened material, zoomable, paintable.
+
+A QWidget painting a QImage that wraps the :class:`DisplayCache` buffer (no
+copy). The document's ``dirty`` notifications mark tiles stale; a zero-delay
+timer converts them in slices of about a frame, visible tiles first, and
+repaints just those. Mouse and tablet input goes to the current tool in
+texel coordinates; the wheel zooms around the cursor, the middle button or
+Space+drag pans.
+"""
+
+from __future__ import annotations
+
+import math
+
+from PySide6.QtCore import QEvent, QPointF, QRect, QRectF, Qt, QTimer, Signal
+from PySide6.QtGui import (
+    QColor,
+    QImage,
+    QMouseEvent,
+    QPainter,
+    QPaintEvent,
+    QPen,
+    QTabletEvent,
+    QWheelEvent,
+)
+from PySide6.QtWidgets import QWidget
+
+from ..layers import DirtyRegion, Document, Rect
+from ..tools.base import Tool, ToolEvent
+from .display_cache import DisplayCache
+from .view import ViewTransform
+
+BACKGROUND = QColor(30, 31, 34)
+FRAME = QColor(0, 0, 0, 110)
+#: Wheel zoom per 1/8 degree: one 15 degree notch zooms by ~1.2.
+WHEEL_STEP = 1.2 ** (1.0 / 120.0)
+
+
+class TextureCanvas(QWidget):
+    """Shows ``parameter`` of the document and routes pointer input to ``tool``."""
+
+    #: texel under the cursor (continuous), or NaN, NaN when it left the widget
+    cursorMoved = Signal(float, float)
+    #: zoom or pan changed
+    viewChanged = Signal()
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setMouseTracking(True)
+        self.setTabletTracking(True)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setAttribute(Qt.WidgetAttribute.WA_OpaquePaintEvent)
+        self.setMinimumSize(320, 240)
+        self.view = ViewTransform()
+        self.doc: Document | None = None
+        self.cache: DisplayCache | None = None
+        self.tool: Tool | None = None
+        self._image: QImage | None = None
+        self._fitted = False  # fit again on resize until the user zooms or pans
+        self._pan_from: QPointF | None = None
+        self._space = False
+        self._cursor: QPointF | None = None
+        self._timer = QTimer(self)
+        self._timer.setSingleShot(True)
+        self._timer.setInterval(0)
+        self._timer.timeout.connect(self._refresh_some)
+
+    # -- document ------------------------------------------------------------
+
+    def set_document(self, doc: Document | None, parameter: str | None = None) -> None:
+        if self.tool is not None:
+            self.tool.cancel()
+        if self.doc is not None:
+            self.doc.events.dirty.disconnect(self._on_dirty)
+        self.doc = doc
+        self.cache = None
+        self._image = None
+        if doc is not None:
+            name = parameter if parameter in doc.schema else doc.schema.names[0]
+            self.cache = DisplayCache(doc, name)
+            buffer = self.cache.buffer
+            height, width = buffer.shape[:2]
+            self._image = QImage(
+                buffer.data, width, height, width * 4, QImage.Format.Format_RGBX8888
+            )
+            doc.events.dirty.connect(self._on_dirty)
+            self.fit()
+            self._timer.start()
+        self.update()
+
+    @property
+    def parameter(self) -> str | None:
+        return None if self.cache is None else self.cache.parameter
+
+    def set_parameter(self, name: str) -> None:
+        if self.cache is not None and name != self.cache.parameter:
+            self.cache.parameter = name
+            self._timer.start()
+
+    def _on_dirty(self, region: DirtyRegion) -> None:
+        if self.cache is not None:
+            self.cache.mark(region)
+            self._timer.start()
+
+    def _refresh_some(self) -> None:
+        if self.cache is None:
+            return
+        done = self.cache.refresh(first=self._visible_texels())
+        for rect in done:
+            self.update(self._widget_rect(rect))
+        if self.cache.busy:
+            self._timer.start()
+
+    def flush(self) -> None:
+        """Convert every stale tile now (tests, screenshots)."""
+        if self.cache is not None:
+            self.cache.refresh(budget_s=None)
+            self.update()
+
+    # -- view ----------------------------------------------------------------
+
+    def fit(self) -> None:
+        if self.doc is not None:
+            self.view.fit(self.doc.width, self.doc.height, self.width(), self.height())
+            self._fitted = True
+            self._view_changed()
+
+    def actual_size(self) -> None:
+        if self.doc is not None:
+            self.view.actual_size(self.doc.width, self.doc.height, self.width(), self.height())
+            self._fitted = False
+            self._view_changed()
+
+    def zoom_by(self, factor: float, anchor: QPointF | None = None) -> None:
+        anchor = anchor or QPointF(self.width() / 2, self.height() / 2)
+        self.view.zoom_at(factor, anchor.x(), anchor.y())
+        self._fitted = False
+        self._view_changed()
+
+    def _view_changed(self) -> None:
+        self.update()
+        self.viewChanged.emit()
+
+    def to_texel(self, pos: QPointF) -> tuple[float, float]:
+        return self.view.to_texel(pos.x(), pos.y())
+
+    def to_widget(self, x: float, y: float) -> QPointF:
+        return QPointF(*self.view.to_widget(x, y))
+
+    def _widget_rect(self, rect: Rect) -> QRect:
+        x0, y0 = self.view.to_widget(rect.x0, rect.y0)
+        x1, y1 = self.view.to_widget(rect.x1, rect.y1)
+        return QRect(
+            math.floor(x0) - 1, math.floor(y0) - 1, math.ceil(x1 - x0) + 3, math.ceil(y1 - y0) + 3
+        )
+
+    def _visible_texels(self) -> Rect | None:
+        if self.doc is None:
+            return None
+        x0, y0 = self.view.to_texel(0, 0)
+        x1, y1 = self.view.to_texel(self.width(), self.height())
+        visible = Rect(math.floor(x0), math.floor(y0), math.ceil(x1), math.ceil(y1))
+        return visible.intersect(self.doc.layout.bounds)
+
+    def resizeEvent(self, event) -> None:  # noqa: N802 - Qt override
+        super().resizeEvent(event)
+        if self._fitted:
+            self.fit()
+
+    # -- painting ------------------------------------------------------------
+
+    def paintEvent(self, event: QPaintEvent) -> None:  # noqa: N802 - Qt override
+        painter = QPainter(self)
+        painter.fillRect(event.rect(), BACKGROUND)
+        if self._image is None or self.doc is None:
+            self._paint_empty(painter)
+            return
+        visible = self._visible_texels()
+        if visible is not None and not visible.empty:
+            view = self.view
+            outline = QRectF(
+                view.offset_x,
+                view.offset_y,
+                self.doc.width * view.zoom,
+                self.doc.height * view.zoom,
+            )
+            painter.setPen(QPen(FRAME, 6))
+            painter.drawRect(outline.adjusted(-3, -3, 3, 3))
+            # magnified texels stay crisp squares; minified ones are filtered
+            painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, view.zoom < 1.0)
+            source = QRectF(visible.x0, visible.y0, visible.width, visible.height)
+            x0, y0 = view.to_widget(visible.x0, visible.y0)
+            target = QRectF(x0, y0, visible.width * view.zoom, visible.height * view.zoom)
+            painter.drawImage(target, self._image, source)
+        self._paint_cursor(painter)
+
+    def _paint_empty(self, painter: QPainter) -> None:
+        painter.setPen(QColor(140, 143, 150))
+        font = painter.font()
+        font.setPointSizeF(font.pointSizeF() * 1.25)
+        painter.setFont(font)
+        painter.drawText(
+            self.rect(),
+            Qt.AlignmentFlag.AlignCenter,
+            "Open a texture set or a .matshop project\n(Ctrl+O, or drop files here)",
+        )
+
+    def _paint_cursor(self, painter: QPainter) -> None:
+        if self._cursor is None or self.tool is None or self._pan_from is not None:
+            return
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        radius = self.tool.cursor_radius()
+        centre = self._cursor
+        if radius is not None:
+            r = max(radius * self.view.zoom, 2.0)
+            # two rings (dark under light) read on bright and dark textures alike
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+            painter.setPen(QPen(QColor(0, 0, 0, 160), 3))
+            painter.drawEllipse(centre, r, r)
+            painter.setPen(QPen(QColor(255, 255, 255, 220), 1))
+            painter.drawEllipse(centre, r, r)
+        tx, ty = self.to_texel(centre)
+        for mx, my in self.tool.markers(tx, ty):
+            point = self.to_widget(mx, my)
+            painter.setPen(QPen(QColor(255, 255, 255, 220), 1))
+            painter.drawLine(point + QPointF(-7, 0), point + QPointF(7, 0))
+            painter.drawLine(point + QPointF(0, -7), point + QPointF(0, 7))
+
+    # -- input ---------------------------------------------------------------
+
+    def _tool_event(self, pos: QPointF, pressure: float, modifiers) -> ToolEvent:
+        x, y = self.to_texel(pos)
+        mods = Qt.KeyboardModifier
+        return ToolEvent(
+            x,
+            y,
+            pressure,
+            alt=bool(modifiers & mods.AltModifier),
+            ctrl=bool(modifiers & mods.ControlModifier),
+            shift=bool(modifiers & mods.ShiftModifier),
+        )
+
+    def _starts_pan(self, button: Qt.MouseButton) -> bool:
+        return button == Qt.MouseButton.MiddleButton or (
+            button == Qt.MouseButton.LeftButton and self._space
+        )
+
+    def mousePressEvent(self, event: QMouseEvent) -> None:  # noqa: N802 - Qt override
+        self.setFocus(Qt.FocusReason.MouseFocusReason)
+        if self._starts_pan(event.button()):
+            self._pan_from = event.position()
+            self.setCursor(Qt.CursorShape.ClosedHandCursor)
+        elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
+            self.tool.press(self._tool_event(event.position(), 1.0, event.modifiers()))
+        event.accept()
+
+    def mouseMoveEvent(self, event: QMouseEvent) -> None:  # noqa: N802 - Qt override
+        pos = event.position()
+        self._track(pos)
+        if self._pan_from is not None:
+            delta = pos - self._pan_from
+            self._pan_from = pos
+            self.view.pan(delta.x(), delta.y())
+            self._fitted = False
+            self._view_changed()
+        elif self.tool is not None and self.tool.busy:
+            self.tool.move(self._tool_event(pos, 1.0, event.modifiers()))
+        event.accept()
+
+    def mouseReleaseEvent(self, event: QMouseEvent) -> None:  # noqa: N802 - Qt override
+        if self._pan_from is not None and self._starts_pan(event.button()):
+            self._pan_from = None
+            self.unsetCursor()
+        elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
+            self.tool.release(self._tool_event(event.position(), 1.0, event.modifiers()))
+        event.accept()
+
+    def tabletEvent(self, event: QTabletEvent) -> None:  # noqa: N802 - Qt override
+        """Pen input with pressure; accepted, so Qt synthesises no mouse events."""
+        if self.tool is None or self._space:
+            event.ignore()  # panning with the pen goes through the mouse path
+            return
+        kind = event.type()
+        pos = event.position()
+        self._track(pos)
+        tool_event = self._tool_event(pos, float(event.pressure()), event.modifiers())
+        if kind == QEvent.Type.TabletPress:
+            self.tool.press(tool_event)
+        elif kind == QEvent.Type.TabletMove and self.tool.busy:
+            self.tool.move(tool_event)
+        elif kind == QEvent.Type.TabletRelease:
+            self.tool.release(tool_event)
+        event.accept()
+
+    def wheelEvent(self, event: QWheelEvent) -> None:  # noqa: N802 - Qt override
+        steps = event.angleDelta().y()
+        if steps:
+            self.zoom_by(WHEEL_STEP**steps, event.position())
+        event.accept()
+
+    def keyPressEvent(self, event) -> None:  # noqa: N802 - Qt override
+        if event.key() == Qt.Key.Key_Space and not event.isAutoRepeat():
+            self._space = True
+            self.setCursor(Qt.CursorShape.OpenHandCursor)
+        elif event.key() == Qt.Key.Key_Escape and self.tool is not None:
+            self.tool.cancel()
+        else:
+            super().keyPressEvent(event)
+
+    def keyReleaseEvent(self, event) -> None:  # noqa: N802 - Qt override
+        if event.key() == Qt.Key.Key_Space and not event.isAutoRepeat():
+            self._space = False
+            self.unsetCursor()
+        else:
+            super().keyReleaseEvent(event)
+
+    def leaveEvent(self, event) -> None:  # noqa: N802 - Qt override
+        self._update_cursor_area()
+        self._cursor = None
+        self.cursorMoved.emit(math.nan, math.nan)
+        super().leaveEvent(event)
+
+    def _track(self, pos: QPointF) -> None:
+        # repaint only around the old and new cursor: a full repaint per mouse
+        # move would rescale the whole visible image
+        self._update_cursor_area()
+        self._cursor = QPointF(pos)
+        self._update_cursor_area()
+        x, y = self.to_texel(pos)
+        self.cursorMoved.emit(x, y)
+
+    def _update_cursor_area(self) -> None:
+        if self._cursor is None or self.tool is None:
+            return
+        radius = (self.tool.cursor_radius() or 0.0) * self.view.zoom + 10.0
+        points = [self._cursor]
+        tx, ty = self.to_texel(self._cursor)
+        points += [self.to_widget(mx, my) for mx, my in self.tool.markers(tx, ty)]
+        for point in points:
+            r = radius if point is self._cursor else 10.0
+            self.update(QRectF(point.x() - r, point.y() - r, 2 * r, 2 * r).toAlignedRect())

@@ -1,0 +1,169 @@
+"""Drawing the viewport's frame: the environment backdrop, then the shaded mesh.
+
+:class:`MaterialRenderer` owns every GL object of a view and needs a current
+context in every method; the Qt widget (:mod:`.view`) and the offscreen
+context (:mod:`.context`) both drive it. Lighting settings mirror the
+arguments of :func:`matshop.render.render.render` so a test can pass the same
+ones to both.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from OpenGL import GL
+
+from ...layers.geometry import TileKey
+from ...render.environment import Environment, load_environment
+from ...render.integrator import DirectionalLight
+from . import shaders
+from .camera import OrbitCamera
+from .environment_gpu import EnvironmentTextures
+from .fbo import Framebuffer
+from .mesh_data import MeshData, uv_sphere
+from .mesh_gpu import GpuMesh
+from .textures import MaterialTextures
+
+#: the reference's backdrop reads the environment at this level (render.render)
+BACKGROUND_LOD = 2.0
+
+
+@dataclass
+class Lighting:
+    """What :func:`matshop.render.render.render` calls environment, lights, samples."""
+
+    samples: int = 16
+    lod_bias: float = 1.0
+    environment_scale: float = 1.0
+    specular: bool = True
+    lights: Sequence[DirectionalLight] = ()
+    exposure: float = 0.0
+    tonemap: str = "aces"
+    #: "environment" or a linear RGB triple
+    background: str | tuple[float, float, float] = "environment"
+    #: material texture level: None = per pixel (hardware trilinear), else this level
+    texture_lod: float | None = None
+
+
+class MaterialRenderer:
+    """Programs, mesh, material and environment textures of one view."""
+
+    def __init__(self, environment: Environment | str | None = None) -> None:
+        self.surface = shaders.Program(shaders.MESH_VERTEX, shaders.SURFACE_FRAGMENT)
+        self.background = shaders.Program(shaders.BACKGROUND_VERTEX, shaders.BACKGROUND_FRAGMENT)
+        self.camera = OrbitCamera()
+        self.lighting = Lighting()
+        self.uv_scale = (1.0, 1.0)
+        self.mesh: GpuMesh | None = None
+        self.textures: MaterialTextures | None = None
+        self.environment: EnvironmentTextures | None = None
+        self._empty_vao = GL.glGenVertexArrays(1)
+        self._pending: set[TileKey] = set()
+        self.set_environment(environment)
+        self.set_mesh(uv_sphere())
+
+    # -- content -----------------------------------------------------------
+
+    def set_environment(self, environment: Environment | str | None) -> None:
+        env = environment if isinstance(environment, Environment) else load_environment(environment)
+        if self.environment is not None:
+            self.environment.delete()
+        self.environment = EnvironmentTextures(env)
+
+    def set_mesh(self, mesh: MeshData) -> None:
+        if self.mesh is not None:
+            self.mesh.delete()
+        self.mesh = GpuMesh(mesh)
+
+    def set_document(self, doc, *, lobe: str | None = None) -> None:
+        """Upload ``doc``'s shading textures (all of it, once); later only dirty tiles."""
+        if self.textures is not None:
+            self.textures.delete()
+        self._pending.clear()
+        self.textures = MaterialTextures(doc, lobe=lobe) if doc is not None else None
+
+    def mark_dirty(self, keys: Iterable[TileKey]) -> None:
+        """Tiles to re-upload before the next frame (the document's dirty signal)."""
+        self._pending.update(keys)
+
+    def sync(self) -> int:
+        """Upload the pending dirty tiles; returns the bytes sent."""
+        if self.textures is None or not self._pending:
+            self._pending.clear()
+            return 0
+        keys, self._pending = self._pending, set()
+        return self.textures.update_tiles(sorted(keys))
+
+    # -- drawing -----------------------------------------------------------
+
+    def draw(self, width: int, height: int) -> None:
+        """Draw into the bound framebuffer (its viewport already ``width x height``)."""
+        self.sync()
+        light = self.lighting
+        GL.glDisable(GL.GL_CULL_FACE)
+        GL.glDisable(GL.GL_DEPTH_TEST)
+        GL.glClearColor(0.0, 0.0, 0.0, 1.0)
+        GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
+        self._draw_background(width, height)
+        if self.mesh is None or self.textures is None:
+            return
+        GL.glEnable(GL.GL_DEPTH_TEST)
+        GL.glDepthFunc(GL.GL_LESS)
+        p = self.surface
+        p.use()
+        p.set("u_view_proj", self.camera.view_projection(width / height))
+        p.set("u_uv_scale", np.asarray(self.uv_scale, dtype=np.float32))
+        p.set("u_camera", self.camera.eye())
+        p.set("u_exposure", float(light.exposure))
+        p.set("u_tonemap", 0 if light.tonemap == "aces" else 1)
+        p.set("u_texture_lod", -1.0 if light.texture_lod is None else float(light.texture_lod))
+        p.set("u_samples", int(light.samples))
+        p.set("u_lod_bias", float(light.lod_bias))
+        p.set("u_specular", bool(light.specular))
+        p.set("u_env_scale", float(light.environment_scale))
+        lights = list(light.lights)[: shaders.MAX_LIGHTS]
+        p.set("u_light_count", len(lights))
+        if lights:
+            p.set("u_light_dir", np.array([lt.unit() for lt in lights]))
+            p.set("u_light_irradiance", np.array([lt.irradiance for lt in lights]))
+        self.textures.bind(p)
+        self.environment.bind(p)
+        self.mesh.draw()
+
+    def _draw_background(self, width: int, height: int) -> None:
+        light = self.lighting
+        b = self.background
+        b.use()
+        b.set("u_exposure", float(light.exposure))
+        b.set("u_tonemap", 0 if light.tonemap == "aces" else 1)
+        flat = not isinstance(light.background, str)
+        b.set("u_flat_background", flat)
+        b.set("u_background", np.asarray((0, 0, 0) if not flat else light.background, np.float32))
+        b.set("u_camera_to_world", self.camera.rotation())
+        b.set("u_tan_half_fov", np.asarray(self.camera.tan_half_fov(width / height), np.float32))
+        b.set("u_background_lod", BACKGROUND_LOD)
+        self.environment.bind(b)
+        GL.glBindVertexArray(self._empty_vao)
+        GL.glDrawArrays(GL.GL_TRIANGLES, 0, 3)
+        GL.glBindVertexArray(0)
+
+    def render_image(self, width: int, height: int | None = None) -> np.ndarray:
+        """The frame as ``(height, width, 4)`` uint8 RGBA, top row first (offscreen)."""
+        height = width if height is None else height
+        previous = GL.glGetIntegerv(GL.GL_FRAMEBUFFER_BINDING)
+        fbo = Framebuffer(width, height)
+        try:
+            fbo.bind()
+            self.draw(width, height)
+            return fbo.read()
+        finally:
+            fbo.delete()
+            GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, previous)
+
+    def delete(self) -> None:
+        for thing in (self.mesh, self.textures, self.environment, self.surface, self.background):
+            if thing is not None:
+                thing.delete()
+        GL.glDeleteVertexArrays(1, [self._empty_vao])

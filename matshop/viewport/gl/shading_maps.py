@@ -1,0 +1,137 @@
+"""Physical maps -> the shading textures the surface shader reads, and their mip levels.
+
+The conversion is the reference renderer's own (:func:`matshop.render.surface.prepare`
+on the block's maps, no prefilter): linear ``kd``/``ks`` from the color spaces or
+the metallic workflow, the lobe parameter (GGX ``alpha = r^2``, Beckmann ``m``,
+Phong ``n``, Ashikhmin-Shirley ``nu, nv``), tangent-space normal and tangent,
+``ao``, ``emissive``. It is pointwise, so a tile converts on its own and the
+dirty-tile path produces the same values as a full upload.
+
+Packed four channels per texture so a shader lookup is few fetches:
+
+==============  ========================================
+``kd_ao``       kd.rgb, ao (1 without an ao map)
+``ks_lobe``     ks.rgb, lobe parameter 0
+``normal_lobe`` tangent-space normal xyz, lobe parameter 1 (AS ``nv``)
+``tangent``     tangent-space tangent xyz, 0 (only with a 6-channel frame)
+``emissive``    emissive rgb, 0 (only with an emissive map)
+==============  ========================================
+
+The sampled family is not on the GPU yet: its lobe is shown as the GGX lobe
+with the same median angle (``alpha = tan c^-1(1/2)``), which
+:func:`lobe_family` reports. ``set_lobe`` overrides convert parameters by the
+usual equivalences (Beckmann ``m = alpha``, Phong ``n = 2 / m^2 - 2``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ...material import Material, Schema
+from ...render.surface import MIN_ROUGHNESS, prepare
+
+TEXTURES = ("kd_ao", "ks_lobe", "normal_lobe", "tangent", "emissive")
+FAMILIES = ("ggx", "beckmann", "phong", "ashikhmin_shirley")
+
+
+def _slope(family: str, lobe: np.ndarray) -> np.ndarray:
+    """An rms-slope-like roughness ``(H, W)`` of any family (GGX alpha ~ Beckmann m)."""
+    if family in ("ggx", "beckmann"):
+        return lobe[..., 0]
+    exponent = lobe[..., 0] if family == "phong" else np.sqrt(lobe[..., 0] * lobe[..., 1])
+    return np.sqrt(2.0 / (np.maximum(exponent, 0.0) + 2.0))
+
+
+def convert_lobe(family: str, lobe: np.ndarray, target: str) -> np.ndarray:
+    """Lobe parameters ``(H, W, 2)`` of ``target`` approximating ``family``'s ``lobe``."""
+    if family == target:
+        out = lobe
+    else:
+        m = np.clip(_slope(family, lobe), MIN_ROUGHNESS, None)
+        if target in ("ggx", "beckmann"):
+            out = m[..., None]
+        else:
+            n = 2.0 / (m * m) - 2.0
+            out = n[..., None] if target == "phong" else np.stack([n, n], axis=-1)
+    out = np.asarray(out, dtype=np.float32)
+    if out.shape[-1] == 1:
+        out = np.concatenate([out, np.zeros_like(out)], axis=-1)
+    return out
+
+
+def lobe_family(schema: Schema, override: str | None = None) -> str:
+    """The D family the shader uses for ``schema`` (the reference's choice unless overridden)."""
+    if override is not None:
+        if override not in FAMILIES:
+            raise ValueError(f"unknown lobe {override!r} (use one of {', '.join(FAMILIES)})")
+        return override
+    for name, family in (
+        ("distribution", "ggx"),  # shown as its median-matched GGX
+        ("anisotropic_exponents", "ashikhmin_shirley"),
+        ("phong_exponent", "phong"),
+        ("beckmann_roughness", "beckmann"),
+    ):
+        if name in schema:
+            return family
+    return "ggx"
+
+
+def pack(
+    schema: Schema, maps: Mapping[str, np.ndarray], override: str | None = None
+) -> dict[str, np.ndarray]:
+    """The shading textures ``(h, w, 4)`` float32 of one block of physical maps."""
+    material = Material("block", schema, {name: maps[name] for name in schema.names})
+    surface = prepare(material)
+    family = surface.family
+    lobe = surface.lobe
+    if family == "sampled":
+        family, lobe = "ggx", _median_alpha(surface.quantiles, surface.levels)
+    lobe = convert_lobe(family, lobe, lobe_family(schema, override))
+    h, w = surface.kd.shape[:2]
+    ao = surface.ao if surface.ao is not None else np.ones((h, w, 1), np.float32)
+    out = {
+        "kd_ao": np.concatenate([surface.kd, ao], axis=2),
+        "ks_lobe": np.concatenate([surface.ks, lobe[..., :1]], axis=2),
+        "normal_lobe": np.concatenate([surface.normal, lobe[..., 1:2]], axis=2),
+    }
+    zero = np.zeros((h, w, 1), np.float32)
+    if surface.tangent is not None:
+        out["tangent"] = np.concatenate([surface.tangent, zero], axis=2)
+    if surface.emissive is not None:
+        out["emissive"] = np.concatenate([surface.emissive, zero], axis=2)
+    return {k: np.ascontiguousarray(v, dtype=np.float32) for k, v in out.items()}
+
+
+def _median_alpha(quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:
+    """GGX ``alpha = tan(theta_median)`` of tabulated lobes (their inverse CDF at y = 1/2)."""
+    y = np.asarray(levels, dtype=np.float64)
+    k = int(np.clip(np.searchsorted(y, 0.5) - 1, 0, y.size - 2))
+    t = float(np.clip((0.5 - y[k]) / (y[k + 1] - y[k]), 0.0, 1.0))
+    theta = quantiles[..., k] + t * (quantiles[..., k + 1] - quantiles[..., k])
+    return np.clip(np.tan(np.clip(theta, 0.0, 1.5)), MIN_ROUGHNESS, 1.0)[..., None]
+
+
+def present(schema: Schema) -> tuple[str, ...]:
+    """Which of :data:`TEXTURES` a material of ``schema`` fills."""
+    names = ["kd_ao", "ks_lobe", "normal_lobe"]
+    if "normal" in schema and schema["normal"].phys_channels >= 6:
+        names.append("tangent")
+    if "emissive" in schema:
+        names.append("emissive")
+    return tuple(names)
+
+
+def box_mips(block: np.ndarray, levels: int) -> list[np.ndarray]:
+    """``block`` and ``levels`` successive 2x2 means (what glGenerateMipmap computes for
+    power-of-two sizes, and cv2 INTER_AREA halving in the reference)."""
+    out = [block]
+    for _ in range(levels):
+        b = out[-1]
+        h, w = b.shape[0] // 2, b.shape[1] // 2
+        if h < 1 or w < 1:
+            break
+        b = b[: 2 * h, : 2 * w]
+        out.append(0.25 * (b[0::2, 0::2] + b[1::2, 0::2] + b[0::2, 1::2] + b[1::2, 1::2]))
+    return out

@@ -1,0 +1,249 @@
+"""``MaterialViewport``: the QOpenGLWidget showing the document's material on a mesh.
+
+Mouse: with a brush set (:meth:`MaterialViewport.set_brush`) the left button
+paints; without one, or with Alt, it orbits. The right or middle button pans,
+the wheel zooms. The document's ``dirty`` signal queues tiles; the next frame
+uploads just those (:meth:`.renderer.MaterialRenderer.sync`).
+
+Everything GL happens with the widget's context current: Qt makes it current
+around ``initializeGL``/``paintGL``; the other methods do it themselves, so
+tests and scripts can call :meth:`render_image` and :meth:`uv_at` directly.
+Calls made before the widget has a context are remembered and applied in
+``initializeGL``.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import numpy as np
+from PySide6.QtCore import Qt
+from PySide6.QtOpenGLWidgets import QOpenGLWidget
+
+from ...layers.events import DirtyRegion
+from ...paint.brush import Brush
+from ...paint.swatch import Swatch
+from ...render.environment import Environment
+from .camera import OrbitCamera
+from .context import surface_format
+from .mesh_data import MeshData, load_mesh, uv_sphere
+from .painting import ViewportPainter
+from .picking import PickBuffer, SurfaceHit
+from .renderer import Lighting, MaterialRenderer
+from .surface_map import SurfaceMap
+
+ORBIT_DEGREES_PER_PIXEL = 0.4
+WHEEL_ZOOM = 1.1
+
+
+class MaterialViewport(QOpenGLWidget):
+    """The 3D view of a :class:`~matshop.layers.Document` (see the module docstring)."""
+
+    def __init__(self, parent=None) -> None:
+        super().__init__(parent)
+        # per widget, so it holds even if the QApplication predates install_default_format
+        self.setFormat(surface_format())
+        self.camera = OrbitCamera()
+        self.lighting = Lighting()
+        self.renderer: MaterialRenderer | None = None
+        self.doc = None
+        self._mesh: MeshData = uv_sphere()
+        self._uv_scale = (1.0, 1.0)
+        self._lobe: str | None = None
+        self._environment: Environment | str | None = None
+        self._pick: PickBuffer | None = None
+        self._surface: SurfaceMap | None = None
+        self._stale_content = True
+        self._brush: dict | None = None
+        self._drag: tuple[Qt.MouseButton, float, float] | None = None
+        self.painter = ViewportPainter(self._hit, self.surface_map, self._stroke_options)
+        self.setMouseTracking(False)
+
+    # -- content -----------------------------------------------------------
+
+    def set_document(self, doc) -> None:
+        if self.doc is not None:
+            self.doc.events.dirty.disconnect(self._on_dirty)
+        self.doc = doc
+        if doc is not None:
+            doc.events.dirty.connect(self._on_dirty)
+        self._surface = None
+        self._stale_content = True
+        self.update()
+
+    def set_mesh(self, mesh: str | os.PathLike[str] | MeshData) -> None:
+        """An .obj/.gltf/.glb path (normalised into the unit sphere) or a :class:`MeshData`."""
+        self._mesh = mesh if isinstance(mesh, MeshData) else load_mesh(mesh)
+        self._surface = None
+        self._stale_content = True
+        self.update()
+
+    def set_uv_scale(self, u: float, v: float) -> None:
+        """Texture repeats (the reference sphere scene uses 2 around, 1 pole to pole)."""
+        self._uv_scale = (float(u), float(v))
+        self._surface = None
+        if self.renderer is not None:
+            self.renderer.uv_scale = self._uv_scale
+        self.update()
+
+    def set_lobe(self, family: str | None) -> None:
+        """Show the material with this D (ggx, beckmann, phong, ashikhmin_shirley) or its own."""
+        self._lobe = family
+        self._stale_content = True
+        self.update()
+
+    def set_environment(self, environment: Environment | str | None) -> None:
+        self._environment = environment
+        if self.renderer is not None:
+            with self._current():
+                self.renderer.set_environment(environment)
+        self.update()
+
+    def set_brush(
+        self,
+        layer_id: int | None,
+        brush: Brush | None = None,
+        swatch: Swatch | None = None,
+        history=None,
+    ) -> None:
+        """Paint ``swatch`` with ``brush`` into paint layer ``layer_id`` (None: orbit only)."""
+        self._brush = (
+            None
+            if layer_id is None
+            else {
+                "layer_id": layer_id,
+                "brush": brush or Brush(),
+                "swatch": swatch,
+                "history": history,
+            }
+        )
+
+    # -- GL lifecycle ------------------------------------------------------
+
+    @contextmanager
+    def _current(self) -> Iterator[None]:
+        self.makeCurrent()
+        try:
+            if self.renderer is None:
+                self._initialize()
+            self._apply()
+            yield
+        finally:
+            self.doneCurrent()
+
+    def _initialize(self) -> None:
+        self.renderer = MaterialRenderer(self._environment)
+        self.renderer.camera = self.camera
+        self.renderer.lighting = self.lighting
+        self._pick = PickBuffer(self.renderer)
+
+    def _apply(self) -> None:
+        r = self.renderer
+        r.camera = self.camera
+        r.lighting = self.lighting
+        r.uv_scale = self._uv_scale
+        if self._stale_content:
+            r.set_mesh(self._mesh)
+            r.set_document(self.doc, lobe=self._lobe)
+            self._stale_content = False
+
+    def initializeGL(self) -> None:  # noqa: N802 (Qt's name)
+        if self.renderer is None:
+            self._initialize()
+
+    def paintGL(self) -> None:  # noqa: N802
+        self._apply()
+        dpr = self.devicePixelRatioF()
+        self.renderer.draw(int(self.width() * dpr), int(self.height() * dpr))
+
+    def _on_dirty(self, region: DirtyRegion) -> None:
+        if self.renderer is not None:
+            self.renderer.mark_dirty(region.keys)
+        self.update()
+
+    # -- images and picking ------------------------------------------------
+
+    def render_image(self, size: int | tuple[int, int]) -> np.ndarray:
+        """An offscreen frame ``(H, W, 4)`` uint8 RGBA of the view, pending tiles uploaded."""
+        w, h = (size, size) if np.isscalar(size) else size
+        with self._current():
+            return self.renderer.render_image(int(w), int(h))
+
+    def _pixel_size(self) -> tuple[int, int]:
+        dpr = self.devicePixelRatioF()
+        return max(1, int(self.width() * dpr)), max(1, int(self.height() * dpr))
+
+    def _hit(self, x: float, y: float) -> SurfaceHit | None:
+        """The surface under widget point (x, y) in logical pixels."""
+        dpr = self.devicePixelRatioF()
+        with self._current():
+            self._pick.update(*self._pixel_size())
+        return self._pick.hit(x * dpr, y * dpr)
+
+    def uv_at(self, x: float, y: float) -> tuple[float, float] | None:
+        """Texture coordinates (after the uv scale) under widget point (x, y), or None."""
+        found = self._hit(x, y)
+        return None if found is None else (float(found.uv[0]), float(found.uv[1]))
+
+    def surface_map(self) -> SurfaceMap:
+        """The UV-space bake of the mesh for the document's texels (built on first use)."""
+        if self._surface is None:
+            with self._current():
+                self._surface = SurfaceMap(self._mesh, self.doc.layout, uv_scale=self._uv_scale)
+        return self._surface
+
+    def _stroke_options(self) -> dict:
+        if self._brush is None or self.doc is None:
+            raise RuntimeError("no brush or document: call set_document and set_brush first")
+        return {"doc": self.doc, **self._brush}
+
+    # -- mouse -------------------------------------------------------------
+
+    def _paints(self, event) -> bool:
+        return (
+            self._brush is not None
+            and self.doc is not None
+            and event.button() == Qt.MouseButton.LeftButton
+            and not event.modifiers() & Qt.KeyboardModifier.AltModifier
+        )
+
+    def mousePressEvent(self, event) -> None:  # noqa: N802
+        pos = event.position()
+        if self._paints(event):
+            self.painter.press(pos.x(), pos.y(), _pressure(event))
+        else:
+            self._drag = (event.button(), pos.x(), pos.y())
+        self.update()
+
+    def mouseMoveEvent(self, event) -> None:  # noqa: N802
+        pos = event.position()
+        if self.painter.active:
+            self.painter.move(pos.x(), pos.y(), _pressure(event))
+        elif self._drag is not None:
+            button, x0, y0 = self._drag
+            dx, dy = pos.x() - x0, pos.y() - y0
+            if button == Qt.MouseButton.LeftButton:
+                self.camera.orbit(-dx * ORBIT_DEGREES_PER_PIXEL, dy * ORBIT_DEGREES_PER_PIXEL)
+            else:
+                self.camera.pan(dx / max(self.height(), 1), dy / max(self.height(), 1))
+            self._drag = (button, pos.x(), pos.y())
+        self.update()
+
+    def mouseReleaseEvent(self, event) -> None:  # noqa: N802
+        if self.painter.active:
+            self.painter.release()
+        self._drag = None
+        self.update()
+
+    def wheelEvent(self, event) -> None:  # noqa: N802
+        steps = event.angleDelta().y() / 120.0
+        self.camera.zoom(WHEEL_ZOOM**steps)
+        self.update()
+
+
+def _pressure(event) -> float:
+    """Tablet pressure when the device reports it, else full pressure (a mouse)."""
+    pressure = float(event.pressure()) if hasattr(event, "pressure") else 1.0
+    return min(max(pressure if pressure > 0.0 else 1.0, 0.0), 1.0)

@@ -1,0 +1,214 @@
+"""glTF binary and MaterialX documents written by the export, and the CLI verb.
+
+The .glb files are checked by the Khronos glTF validator (npm package
+``gltf-validator``, run through ``tools/gltf-validate.mjs``) and read back
+with pygltflib; the .mtlx documents by MaterialX's own ``validate()``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import MaterialX as mx
+import numpy as np
+import pygltflib
+import pytest
+
+from matshop.cli import main
+from matshop.export.core import export_material
+from matshop.export.mtlx import validate
+from matshop.export.presets import builtin_preset_names
+from matshop.io.images import read_image
+from matshop.io.material_io import load_material
+from matshop.material import Material, Schema
+
+ROOT = Path(__file__).resolve().parents[1]
+TOOLS = ROOT / "tools"
+SPHERE = ROOT.parent / "shared" / "data" / "geometry" / "sphere.obj"
+SAMPLE = ROOT / "resources" / "sample"
+
+
+@pytest.fixture(scope="module")
+def small() -> Material:
+    material, _ = load_material(SAMPLE)
+    maps = {n: a[::4, ::4].copy() for n, a in material.maps.items()}
+    return Material("tiles", material.schema, maps, material.sources)
+
+
+def validate_gltf(path: Path) -> dict:
+    """The validator's report for ``path``; skip (or fail in CI) when it is absent."""
+    node = shutil.which("node")
+    problem = None
+    if node is None:
+        problem = "node is not installed"
+    elif not (TOOLS / "node_modules" / "gltf-validator").is_dir():
+        problem = "gltf-validator is not installed (run: npm install --prefix tools)"
+    if problem:
+        if os.environ.get("MATSHOP_REQUIRE_GLTF_VALIDATOR") == "1":
+            pytest.fail(f"{problem}, and MATSHOP_REQUIRE_GLTF_VALIDATOR=1")
+        pytest.skip(problem)
+    run = subprocess.run(
+        [node, str(TOOLS / "gltf-validate.mjs"), str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.stdout, run.stderr
+    return json.loads(run.stdout.splitlines()[0])
+
+
+def _embedded_image(doc: pygltflib.GLTF2, index: int, scratch: Path) -> np.ndarray:
+    image = doc.images[index]
+    view = doc.bufferViews[image.bufferView]
+    blob = doc.binary_blob()
+    scratch.write_bytes(blob[view.byteOffset : view.byteOffset + view.byteLength])
+    return read_image(scratch)[0]
+
+
+def test_glb_on_the_shared_sphere_validates_and_reads_back(small: Material, tmp_path: Path) -> None:
+    mesh = SPHERE if SPHERE.is_file() else None  # else the built-in UV sphere
+    summary = export_material(small, "gltf", tmp_path, glb=True, mesh=mesh)
+    glb = summary.file(".glb")
+    report = validate_gltf(glb)
+    assert report["numErrors"] == 0, report["messages"]
+
+    doc = pygltflib.GLTF2.load(str(glb))
+    (material,) = doc.materials
+    pbr = material.pbrMetallicRoughness
+    orm = pbr.metallicRoughnessTexture.index
+    assert material.occlusionTexture.index == orm  # one ORM file serves both slots
+    assert material.normalTexture is not None
+    primitive = doc.meshes[0].primitives[0]
+    assert primitive.attributes.TANGENT is None  # no tangent frame: MikkTSpace in viewers
+    assert doc.accessors[primitive.indices].count % 3 == 0
+    # the embedded textures are the very pixels of the exported files
+    for texture_index, suffix in (
+        (pbr.baseColorTexture.index, "_baseColor.png"),
+        (orm, "_occlusionRoughnessMetallic.png"),
+        (material.normalTexture.index, "_normal.png"),
+    ):
+        source = doc.textures[texture_index].source
+        assert doc.images[source].mimeType == "image/png"
+        embedded = _embedded_image(doc, source, tmp_path / f"embedded{suffix}")
+        written, _ = read_image(summary.file(suffix))
+        assert np.array_equal(embedded, written), suffix
+
+
+def test_anisotropic_material_gets_tangents_and_khr_anisotropy(tmp_path: Path) -> None:
+    size = 16
+    angle = np.deg2rad(30.0)
+    frame = np.zeros((size, size, 6), dtype=np.float32)
+    frame[..., 2] = 1.0  # flat normal
+    frame[..., 3], frame[..., 4] = np.cos(angle), np.sin(angle)  # rotated tangent
+    exponents = np.empty((size, size, 2), dtype=np.float32)
+    exponents[:, : size // 2] = (100.0, 10.0)  # wider lobe across the tangent
+    exponents[:, size // 2 :] = (50.0, 50.0)  # isotropic
+    schema = Schema.from_names(
+        ["base_color", "anisotropic_exponents", "normal"], {"normal": "normal_tangent"}
+    )
+    base = np.full((size, size, 3), 0.5, dtype=np.float32)
+    maps = {"base_color": base, "anisotropic_exponents": exponents, "normal": frame}
+    summary = export_material(Material("brushed", schema, maps), "gltf", tmp_path, glb=True)
+    glb = summary.file(".glb")
+    report = validate_gltf(glb)
+    assert report["numErrors"] == 0, report["messages"]
+
+    doc = pygltflib.GLTF2.load(str(glb))
+    assert "KHR_materials_anisotropy" in doc.extensionsUsed
+    assert doc.meshes[0].primitives[0].attributes.TANGENT is not None
+    extension = doc.materials[0].extensions["KHR_materials_anisotropy"]
+    texels = _embedded_image(
+        doc, doc.textures[extension["anisotropyTexture"]["index"]].source, tmp_path / "a.png"
+    )
+    direction = texels[..., :2] * 2 - 1
+    strength = texels[..., 2]
+    # isotropic half: no anisotropy
+    assert np.all(strength[:, size // 2 :] == 0.0)
+    # anisotropic half: stretched across the tangent (nv < nu), as glTF defines
+    # alpha_t = mix(alpha_b, 1, strength^2) with alpha = sqrt(2 / (n + 2))
+    aniso_dir = direction[:, : size // 2]
+    across = np.array([-np.sin(angle), np.cos(angle)])
+    assert np.abs(aniso_dir @ across - 1).max() < 0.02
+    alpha_t, alpha_b = np.sqrt(2 / 12), np.sqrt(2 / 102)
+    s = strength[:, : size // 2]
+    np.testing.assert_allclose(alpha_b + (1 - alpha_b) * s**2, alpha_t, atol=0.01)
+
+
+@pytest.mark.parametrize("preset_name", builtin_preset_names())
+def test_materialx_document_validates_and_references_the_exported_files(
+    preset_name: str, small: Material, tmp_path: Path
+) -> None:
+    summary = export_material(small, preset_name, tmp_path, mtlx=True)
+    doc = mx.createDocument()
+    mx.readFromXmlFile(doc, str(summary.file(".mtlx")))
+    valid, message = validate(doc)
+    assert valid, message
+    files = {
+        node.getInput("file").getValueString()
+        for node in doc.traverseTree()
+        if isinstance(node, mx.Node) and node.getCategory() == "image"
+    }
+    written = {f.path.name for f in summary.files if f.kind == "texture"}
+    assert files and files <= written
+    (shader,) = [n for n in doc.getNodes() if n.getCategory() == "gltf_pbr"]
+    inputs = {i.getName() for i in shader.getInputs()}
+    assert {"base_color", "metallic", "roughness", "normal", "occlusion"} <= inputs
+    port = shader.getInput("roughness")
+    graph = doc.getNodeGraph(port.getNodeGraphString())
+    roughness = graph.getOutput(port.getOutputString()).getConnectedNode()
+    # Unity stores smoothness: the document must invert it back
+    assert (roughness.getCategory() == "invert") == preset_name.startswith("unity")
+
+
+def test_cli_export_writes_and_summarises(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    out = tmp_path / "out"
+    args = ["export", str(SAMPLE), str(out), "--preset", "unreal", "--size", "128"]
+    assert main([*args, "--glb", "--mtlx"]) == 0
+    printed = capsys.readouterr().out
+    for name in ("tiles_BaseColor.png", "tiles_Normal.png", "tiles_ORM.png", "tiles.glb"):
+        assert name in printed and (out / name).is_file()
+    assert "128x128" in printed
+    assert main(args) == 2  # exists: needs --force
+    assert "--force" in capsys.readouterr().err
+    assert main([*args, "--force"]) == 0
+
+
+def test_cli_errors_are_one_line(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    assert main(["export", str(SAMPLE), str(tmp_path), "--preset", "frostbite"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "unknown preset 'frostbite'" in err and "\n" not in err
+    strict = tmp_path / "strict.json"
+    strict.write_text(
+        '{"name": "disp", "maps": [{"channel": "height", "bitDepth": 16, "srcMapName": "height"}]}'
+    )
+    args = ["export", str(SAMPLE), str(tmp_path / "o"), "--preset-file", str(strict)]
+    assert main([*args, "--strict"]) == 2
+    assert "height" in capsys.readouterr().err
+    assert main(args) == 0
+    assert "warning: height: the material has no height" in capsys.readouterr().out
+
+
+def test_cli_lists_presets(capsys: pytest.CaptureFixture) -> None:
+    assert main(["export", "--list-presets"]) == 0
+    listed = capsys.readouterr().out
+    for name in builtin_preset_names():
+        assert name in listed
+
+
+def test_bad_mesh_is_refused_before_anything_is_written(small: Material, tmp_path: Path) -> None:
+    from matshop.errors import MatshopError
+
+    flat = tmp_path / "no_uvs.obj"
+    flat.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    out = tmp_path / "out"
+    with pytest.raises(MatshopError, match="texture coordinates"):
+        export_material(small, "gltf", out, glb=True, mesh=flat)
+    garbled = tmp_path / "garbled.obj"
+    garbled.write_text("v 0 0 0\nvt 0 0\nf 1/1 2/1 9/1\n")
+    with pytest.raises(MatshopError, match="line 3"):
+        export_material(small, "gltf", out, glb=True, mesh=garbled)
+    assert not out.exists()
