@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import os
 import sys
 from collections.abc import Sequence
@@ -43,6 +44,13 @@ _VERB_MODULES = (
     "matshop.project_verbs",
     "matshop.app.verbs",
 )
+
+
+def _has_display() -> bool:
+    """Whether a bare ``matshop`` can open a window (else it prints its help)."""
+    if sys.platform in ("darwin", "win32"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
 def _repo_sample() -> Path:
@@ -178,6 +186,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.verb is None:
+        if _has_display() and importlib.util.find_spec("PySide6") is not None:
+            return importlib.import_module("matshop.app.verbs").start()
         parser.print_help()
         return EXIT_USAGE
     from . import commands  # keeps `matshop --help` fast: no numpy/OIIO import

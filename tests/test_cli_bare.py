@@ -1,0 +1,25 @@
+"""A bare ``matshop`` starts the editor where a window can open, else prints its help."""
+
+from __future__ import annotations
+
+import pytest
+
+import matshop.cli as cli
+
+
+def test_bare_matshop_starts_the_editor_with_a_display(monkeypatch) -> None:
+    pytest.importorskip("PySide6")
+    import matshop.app.verbs as app_verbs
+
+    started = []
+    monkeypatch.setattr(app_verbs, "start", lambda *a, **k: started.append(a) or 0)
+    monkeypatch.setattr(cli, "_has_display", lambda: True)
+    assert cli.main([]) == 0
+    assert started == [()]
+
+
+def test_bare_matshop_without_a_display_prints_help(monkeypatch, capsys) -> None:
+    monkeypatch.setattr(cli, "_has_display", lambda: False)
+    assert cli.main([]) == cli.EXIT_USAGE
+    out = capsys.readouterr().out
+    assert "usage: matshop" in out and "export" in out and "paint" in out
