@@ -12,6 +12,7 @@ import pytest
 from test_images import make_bad, oiio_write
 
 from matshop.cli import main
+from matshop.errors import MatshopError
 from matshop.io.images import read_image, write_image
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
@@ -125,7 +126,7 @@ def test_failed_write_leaves_previous_export_intact(
         write_image(path, array, **kwargs)
 
     monkeypatch.setattr(material_io, "write_image", failing_write)
-    with pytest.raises(OSError):
+    with pytest.raises(MatshopError, match="No space left on device"):
         material_io.save_material(material_io.load_material(good_set)[0], out, overwrite=True)
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert read_image(out / "tiles_basecolor.png")[0].shape == (512, 512, 3)

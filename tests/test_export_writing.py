@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import matshop.export.writer as writer
+import matshop.io.fileset as writer
 from matshop.errors import MatshopError
 from matshop.export.core import export_material
 from matshop.export.quantize import quantize

@@ -9,7 +9,6 @@ normal convention. The modules, one idea each:
 - :mod:`.pack`     pure functions: a Material + one output spec -> one float array
 - :mod:`.quantize` dithering to 8-bit codes
 - :mod:`.resize`   power-of-two resizing, filtered in editing space
-- :mod:`.writer`   staged, all-or-nothing writing of a set of files
 - :mod:`.core`     :func:`export_material`, tying the above together
 - :mod:`.reimport` reading an export back into a Material (the round-trip check)
 - :mod:`.gltf`, :mod:`.obj`, :mod:`.mtlx`  glTF binary with a mesh, MaterialX documents

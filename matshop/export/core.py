@@ -8,7 +8,7 @@ or a layered document flattened through ``from_edit``). The steps:
    (``strict`` turns that list into an error before any work);
 2. resize to a power of two when asked (filtered in editing space);
 3. write every output, plus an optional ``.glb`` and ``.mtlx``, all-or-nothing
-   through :mod:`.writer`;
+   through :mod:`matshop.io.fileset`;
 4. return an :class:`ExportSummary` of what was written.
 """
 
@@ -24,13 +24,13 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import MatshopError
+from ..io.fileset import PendingFile, check_targets, write_all
 from ..io.images import probe_image, write_image
 from ..material import Material
 from .pack import is_written, pack_output, plan_missing
 from .presets import OutputSpec, Preset, load_preset
 from .quantize import quantize
 from .resize import is_power_of_two, resize_material, target_size
-from .writer import PendingFile, check_targets, write_all
 
 _SAFE_NAME = re.compile(r"[^A-Za-z0-9_.\-]+")
 

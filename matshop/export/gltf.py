@@ -169,7 +169,7 @@ def _png_bytes(array: np.ndarray, scratch: Path, *, seed: int, dither: bool = Tr
 def glb_writer(
     material: Material, name: str, mesh: str | os.PathLike | None, *, seed: int = 0
 ) -> Callable[[Path], None]:
-    """A writer (for :mod:`.writer`) of ``material`` as a ``.glb`` on ``mesh``."""
+    """A writer (for :mod:`matshop.io.fileset`) of ``material`` as a ``.glb`` on ``mesh``."""
     geometry = read_obj(mesh) if mesh is not None else uv_sphere()  # parse before any writing
 
     def write(path: Path) -> None:

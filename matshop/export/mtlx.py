@@ -125,7 +125,7 @@ def validate(doc: mx.Document) -> tuple[bool, str]:
 def mtlx_writer(
     preset: Preset, outputs: Sequence[OutputSpec], files: dict[str, str], name: str
 ) -> Callable[[Path], None]:
-    """A writer (for :mod:`.writer`) of the ``.mtlx`` document."""
+    """A writer (for :mod:`matshop.io.fileset`) of the ``.mtlx`` document."""
     doc = build_document(preset, outputs, files, name)
     valid, message = validate(doc)
     if not valid:  # a bug, not a user error: our documents must always validate

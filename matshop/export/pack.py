@@ -3,7 +3,7 @@
 Pure functions over arrays; nothing here touches files. Values come out in
 file encoding in ``[0, 1]`` (colors sRGB- or linear-encoded as the output
 says, normals ``(n + 1) / 2`` in the preset's convention, data linear);
-quantisation is :mod:`.quantize`'s job and writing :mod:`.writer`'s.
+quantisation is :mod:`.quantize`'s job and writing :mod:`matshop.io.fileset`'s.
 
 A parameter the material lacks is filled with the engine's default
 (:data:`ENGINE_DEFAULTS`, or the channel's own ``default``) and reported in

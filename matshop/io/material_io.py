@@ -10,9 +10,8 @@ is renamed into place only when every file has been written.
 
 from __future__ import annotations
 
+import functools
 import os
-import shutil
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -26,6 +25,7 @@ from ..spaces.frame import (
     guess_normal_convention,
     height_to_normal,
 )
+from .fileset import PendingFile, write_all
 from .images import ImageInfo, read_image, write_image
 from .textureset import PACKED_CHANNELS, TextureSet, detect_texture_set
 
@@ -290,31 +290,19 @@ def save_material(
 ) -> list[Path]:
     """Write ``material`` as ``<out_dir>/<name>_<tag>.<ext>`` files; return their paths.
 
-    Every file is first written into a hidden staging folder inside
-    ``out_dir``; only when all succeeded are they moved into place, so a
-    failure leaves no partial set behind and never touches existing files.
-    Existing files are replaced only with ``overwrite``.
+    All or nothing (:func:`matshop.io.fileset.write_all`): a failure leaves
+    no partial set behind and never loses an existing file. Existing files
+    are replaced only with ``overwrite``.
     """
-    out = Path(out_dir)
-    plan = _file_plan(material)
-    targets = [out / f"{material.name}_{suffix}" for suffix, *_ in plan]
-    clashes = [t for t in targets if t.exists()]
-    if clashes and not overwrite:
-        raise MatshopError(f"{clashes[0].name} already exists (use --force to overwrite)", out)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".matshop-staging-", dir=out))
-    except OSError as exc:
-        raise MatshopError(f"cannot write here: {exc.strerror or exc}", out) from None
-    try:
-        for done, ((_, array, depth, attrs), target) in enumerate(
-            zip(plan, targets, strict=True), 1
-        ):
-            write_image(staging / target.name, array, bit_depth=depth, attributes=attrs)
-            if progress:
-                progress(done, len(plan))
-        for target in targets:
-            os.replace(staging / target.name, target)
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
-    return targets
+    files = [
+        PendingFile(
+            f"{material.name}_{suffix}",
+            functools.partial(_write_map, array=array, depth=depth, attrs=attrs),
+        )
+        for suffix, array, depth, attrs in _file_plan(material)
+    ]
+    return write_all(out_dir, files, force=overwrite, progress=progress)
+
+
+def _write_map(path: Path, *, array: np.ndarray, depth: str, attrs: dict) -> None:
+    write_image(path, array, bit_depth=depth, attributes=attrs)

@@ -1,7 +1,7 @@
 """All-or-nothing writing of a set of files into one folder.
 
-An export is several files that only make sense together (a material whose
-ORM is new but whose normal map is old is wrong in an engine). So every file
+A texture set or an export is several files that only make sense together (a
+material whose ORM is new but whose normal map is old is wrong in an engine). So every file
 is first written into a hidden staging folder beside its target; only when
 all of them succeeded are they renamed into place. A failure while writing
 leaves the folder as it was. Renames are atomic one by one; if a rename
@@ -57,25 +57,34 @@ def write_one(pending: PendingFile, path: Path) -> None:
 
 
 def write_all(
-    out_dir: str | os.PathLike, files: Sequence[PendingFile], *, force: bool
+    out_dir: str | os.PathLike,
+    files: Sequence[PendingFile],
+    *,
+    force: bool,
+    progress: Callable[[int, int], None] | None = None,
 ) -> list[Path]:
-    """Write ``files`` into ``out_dir`` all-or-nothing; return the final paths."""
+    """Write ``files`` into ``out_dir`` all-or-nothing; return the final paths.
+
+    ``progress(done, total)`` is called after each staged file.
+    """
     out = Path(out_dir)
     names = [f.name for f in files]
     check_targets(out, names, force=force)
     try:
         out.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".matshop-export-", dir=out))
+        staging = Path(tempfile.mkdtemp(prefix=".matshop-staging-", dir=out))
     except OSError as exc:
         raise MatshopError(f"cannot write here: {exc.strerror or exc}", out) from None
     try:
-        for pending in files:
+        for done, pending in enumerate(files, 1):
             try:
                 write_one(pending, staging / pending.name)
             except OSError as exc:
                 raise MatshopError(
                     f"cannot write: {exc.strerror or exc}", out / pending.name
                 ) from None
+            if progress is not None:
+                progress(done, len(files))
         return _move_into_place(staging, out, names)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
