@@ -100,7 +100,9 @@ def build_parser() -> argparse.ArgumentParser:
         "describe every map: parameter, file, bit depth, color encoding, normal "
         "convention and editing space.",
     )
-    info.add_argument("path", type=Path, help="texture folder or one map of the set")
+    info.add_argument(
+        "path", type=Path, help="texture folder, one map of the set, or a .matshop project"
+    )
     _add_load_options(info)
 
     convert = verbs.add_parser(

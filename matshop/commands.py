@@ -93,6 +93,12 @@ def _slices(material: Material) -> list[tuple[str, str]]:
 
 
 def cmd_info(args: argparse.Namespace) -> int:
+    from .io.inputs import is_project
+
+    if is_project(args.path):  # a project: its size, parameters and layer stack
+        from .project_commands import cmd_layer_list
+
+        return cmd_layer_list(argparse.Namespace(project=args.path))
     material, report = _load(args.path, args)
     print(describe(material, report))
     return 0

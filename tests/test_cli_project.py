@@ -244,3 +244,11 @@ def test_recover_restores_a_newer_autosave_and_the_verbs_mention_it(
     capfd.readouterr()
     assert run("recover", project) == 2
     assert "no autosave" in capfd.readouterr().err
+
+
+def test_info_describes_a_project(project: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert run("layer", "add", project, "paint", "--name", "Scratches") == 0
+    capsys.readouterr()
+    assert run("info", project) == 0
+    out = capsys.readouterr().out
+    assert "512x512" in out and "'Base': fill" in out and "'Scratches': paint" in out
