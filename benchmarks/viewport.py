@@ -17,6 +17,11 @@ specular samples per pixel (and 4, an interactive setting), one directional ligh
   uploaded, one frame drawn and finished), median over ``--dabs`` dabs at
   different places; against re-uploading the whole material (what every dab
   would cost without dirty tiles) plus a frame.
+- **dab to screen at 4K**: the same on a 4096^2 document (the 2K set tiled
+  2 x 2; ``--no-4k`` skips it): bytes uploaded per dab against the whole
+  4K texture set, and the latency. A dab covers the same texels at either
+  size, so the bytes per dab should not grow with the texture; what does
+  grow is the full upload a dab would cost without dirty tiles.
 """
 
 from __future__ import annotations
@@ -39,6 +44,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--dabs", type=int, default=20)
+    parser.add_argument("--no-4k", dest="four_k", action="store_false", help="skip the 4K dabs")
     args = parser.parse_args()
 
     install_default_format()
@@ -47,16 +53,12 @@ def main() -> None:
 
     from matshop.io.material_io import load_material
     from matshop.layers import AddLayer, Document, History
-    from matshop.paint import Brush, Swatch
+    from matshop.material import Material
     from matshop.render.integrator import DirectionalLight
     from matshop.render.render import render
     from matshop.viewport.gl.context import OffscreenContext, renderer_string
     from matshop.viewport.gl.fbo import Framebuffer
-    from matshop.viewport.gl.mesh_data import uv_sphere
-    from matshop.viewport.gl.painting import SurfaceStroke
-    from matshop.viewport.gl.picking import PickBuffer
     from matshop.viewport.gl.renderer import MaterialRenderer
-    from matshop.viewport.gl.surface_map import SurfaceMap
 
     app = QGuiApplication.instance() or QGuiApplication([])  # noqa: F841 (keeps Qt alive)
     context = OffscreenContext()  # noqa: F841
@@ -76,13 +78,7 @@ def main() -> None:
     renderer.uv_scale = (2.0, 1.0)
     renderer.lighting.samples = 16
     renderer.lighting.lights = (light,)
-    start = time.perf_counter()
     renderer.set_document(doc)
-    GL.glFinish()
-    full_upload = time.perf_counter() - start
-    full_bytes = renderer.textures.bytes_uploaded
-    doc.events.dirty.connect(lambda region: renderer.mark_dirty(region.keys))
-
     fbo = Framebuffer(size, size)
     fbo.bind()
 
@@ -103,6 +99,53 @@ def main() -> None:
             f"ratio {reference / gl_frame:5.1f}x"
         )
 
+    fbo.delete()
+    renderer.delete()
+    dabs(doc, layer.id, history, light, size, args.dabs, f"{w}x{h}")
+    if args.four_k:
+        big = Material(
+            material.name,
+            material.schema,
+            {k: np.tile(v, (2, 2, 1)) for k, v in material.maps.items()},
+        )
+        doc4 = Document.from_material(big)
+        history4 = History(doc4)
+        layer4 = doc4.new_paint_layer("paint")
+        history4.push(AddLayer(layer4))
+        label = f"{2 * w}x{2 * h} (the set tiled 2x2)"
+        dabs(doc4, layer4.id, history4, light, size, args.dabs, label)
+
+
+def dabs(doc, layer_id, history, light, size: int, count: int, label: str) -> None:
+    """Paint ``count`` dabs on the sphere through the brush engine; print latency and bytes."""
+    from OpenGL import GL
+
+    from matshop.paint import Brush, Swatch
+    from matshop.viewport.gl.fbo import Framebuffer
+    from matshop.viewport.gl.mesh_data import uv_sphere
+    from matshop.viewport.gl.painting import SurfaceStroke
+    from matshop.viewport.gl.picking import PickBuffer
+    from matshop.viewport.gl.renderer import MaterialRenderer
+    from matshop.viewport.gl.surface_map import SurfaceMap
+
+    renderer = MaterialRenderer()
+    renderer.uv_scale = (2.0, 1.0)
+    renderer.lighting.samples = 16
+    renderer.lighting.lights = (light,)
+    start = time.perf_counter()
+    renderer.set_document(doc)
+    GL.glFinish()
+    full_upload = time.perf_counter() - start
+    full_bytes = renderer.textures.bytes_uploaded
+    doc.events.dirty.connect(lambda region: renderer.mark_dirty(region.keys))
+    fbo = Framebuffer(size, size)
+    fbo.bind()
+
+    def frame() -> None:
+        renderer.draw(size, size)
+        GL.glFinish()
+
+    gl_frame = best_time(frame, 3)
     # painting: the bake (once per mesh and document size), then dabs
     start = time.perf_counter()
     surface = SurfaceMap(uv_sphere(), doc.layout, uv_scale=renderer.uv_scale)
@@ -121,10 +164,10 @@ def main() -> None:
         | ({"ao": (1.0,)} if "ao" in doc.schema else {}),
     )
     brush = Brush(radius_px=16.0, hardness=0.6)
-    stroke = SurfaceStroke(doc, layer.id, brush, surface, swatch=swatch, history=history)
+    stroke = SurfaceStroke(doc, layer_id, brush, surface, swatch=swatch, history=history)
     rng = np.random.default_rng(0)
     latencies, stamps, uploads, sent = [], [], [], []
-    for _ in range(args.dabs):
+    for _ in range(count):
         hit = None
         while hit is None:
             x, y = rng.uniform(0.3, 0.7, size=2) * size
@@ -141,11 +184,14 @@ def main() -> None:
         uploads.append(t2 - t1)
     stroke.end()
     latency = statistics.median(latencies)
+    tile_bytes = renderer.textures.tile_bytes((0, 0))
+    per_dab = statistics.median(sent)
     print(
-        f"dab to screen (radius {brush.radius_px:g} texels)   median {latency * 1e3:7.1f} ms "
-        f"(stamp {statistics.median(stamps) * 1e3:.1f}, flatten+upload "
+        f"dab to screen, {label} (radius {brush.radius_px:g} texels)   median "
+        f"{latency * 1e3:7.1f} ms (stamp {statistics.median(stamps) * 1e3:.1f}, flatten+upload "
         f"{statistics.median(uploads) * 1e3:.1f}, frame {gl_frame * 1e3:.1f})   "
-        f"{statistics.median(sent) / 1024:.0f} KiB uploaded per dab"
+        f"{per_dab / 1024:.0f} KiB uploaded per dab ({per_dab / tile_bytes:.1f} tiles of "
+        f"{tile_bytes / 1024:.0f} KiB), {full_bytes / per_dab:.0f}x less than the whole set"
     )
     print(
         f"without dirty tiles: full re-upload {full_upload * 1e3:7.1f} ms "

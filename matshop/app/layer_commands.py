@@ -1,8 +1,9 @@
 """Layer operations as edits, shared by the Layer menu and the layers panel.
 
 Each method builds the edit the engine defines (AddLayer, RemoveLayer,
-MoveLayer, SetProperty) and pushes it through the session; engine refusals
-(ValueError, MatshopError) become a status message and change nothing.
+MoveLayer, SetProperty, SetMask, or several as one CompoundEdit) and pushes
+it through the session; engine refusals (ValueError, MatshopError) become a
+status message and change nothing.
 """
 
 from __future__ import annotations
@@ -14,7 +15,20 @@ from typing import Any
 from PySide6.QtCore import QObject, Signal
 
 from ..errors import MatshopError
-from ..layers import AddLayer, Edit, MoveLayer, RemoveLayer, SetProperty
+from ..layers import (
+    AddLayer,
+    CompoundEdit,
+    Edit,
+    FillLayer,
+    FilterLayer,
+    GroupLayer,
+    Layer,
+    MoveLayer,
+    PaintLayer,
+    RemoveLayer,
+    SetMask,
+    SetProperty,
+)
 from ..layers.filters import bind_filter
 from ..ops import all_ops
 from ..paint import Swatch
@@ -97,6 +111,86 @@ class LayerCommands(QObject):
             return None
         return layer.id if self._push(AddLayer(layer, self._above_active())) else None
 
+    def duplicate_active(self) -> int | None:
+        """A copy of the active layer just above it (its tiles shared, copy-on-write)."""
+        doc, layer = self.session.doc, self.session.active_layer
+        if doc is None or layer is None:
+            return None
+        try:
+            twin = _duplicate(doc, layer)
+        except (ValueError, MatshopError) as exc:
+            self.message.emit(str(exc))
+            return None
+        return twin.id if self._push(AddLayer(twin, doc.index_of(layer.id) + 1)) else None
+
+    # -- groups ----------------------------------------------------------------
+
+    def group(self, layer_ids: list[int]) -> int | None:
+        """Put the layers in a new group: gathered (in stack order) just below it, one step."""
+        doc = self.session.doc
+        if doc is None or not layer_ids:
+            return None
+        order = sorted(layer_ids, key=doc.index_of)
+        top = doc.layer(order[-1])
+        if any(doc.layer(i).parent != top.parent for i in order):
+            self.message.emit("Group layers of the same group (or of none) together")
+            return None
+        stack = [layer.id for layer in doc.layers]
+        edits: list[Edit] = []
+        # gather: each lower layer moves to just below the one above it in the selection
+        for below, above in zip(reversed(order[:-1]), reversed(order[1:]), strict=True):
+            b, a = stack.index(below), stack.index(above)
+            target = a - 1 if b < a else a  # MoveLayer pops first, then inserts
+            if b != target:
+                edits.append(MoveLayer(below, target))
+                stack.insert(target, stack.pop(b))
+        group = doc.new_group_layer(parent=top.parent)
+        edits.append(AddLayer(group, stack.index(top.id) + 1))
+        edits += [SetProperty(layer_id, "parent", group.id) for layer_id in order]
+        return group.id if self._push(CompoundEdit(edits, label="Group layers")) else None
+
+    def ungroup_active(self) -> None:
+        """Take the active layer out of its group: just above the group, in the group's parent."""
+        doc, layer = self.session.doc, self.session.active_layer
+        if doc is None or layer is None or layer.parent is None:
+            return
+        group = doc.layer(layer.parent)
+        edits: list[Edit] = [SetProperty(layer.id, "parent", group.parent)]
+        index = doc.index_of(group.id)  # moving up from below it: lands just above it
+        edits.append(MoveLayer(layer.id, index))
+        self._push(CompoundEdit(edits, label="Move out of group"))
+
+    def depth(self, layer: Layer) -> int:
+        """How many groups ``layer`` is nested in (the panel indents by it)."""
+        doc = self.session.doc
+        depth, seen, current = 0, set(), layer
+        while doc is not None and current.parent is not None and current.id not in seen:
+            seen.add(current.id)
+            try:
+                current = doc.layer(current.parent)
+            except KeyError:
+                break
+            depth += 1
+        return depth
+
+    # -- masks ------------------------------------------------------------------
+
+    def add_mask(self) -> None:
+        """A mask showing everything (paint it to hide parts of the layer)."""
+        doc, layer = self.session.doc, self.session.active_layer
+        if doc is not None and layer is not None and layer.mask is None:
+            self._push(SetMask(layer.id, doc.new_mask(1.0)))
+
+    def remove_mask(self) -> None:
+        layer = self.session.active_layer
+        if layer is not None and layer.mask is not None:
+            self._push(SetMask(layer.id, None))
+
+    def invert_mask(self) -> None:
+        layer = self.session.active_layer
+        if layer is not None and layer.mask is not None:
+            self._push(SetProperty(layer.id, "mask_inverted", not layer.mask_inverted))
+
     # -- changing ------------------------------------------------------------
 
     def remove_active(self) -> None:
@@ -139,3 +233,32 @@ def _same(a: Any, b: Any) -> bool:
         return bool(a == b)
     except ValueError:  # arrays compare elementwise: treat as changed
         return False
+
+
+def _duplicate(doc, layer: Layer) -> Layer:
+    """A new layer (new id) with ``layer``'s properties and content; not in the stack yet."""
+    props = {
+        "visible": layer.visible,
+        "opacity": layer.opacity,
+        "blend": layer.blend,
+        "parameters": layer.parameters,
+        "mask_inverted": layer.mask_inverted,
+        "parent": layer.parent,
+    }
+    name = f"{layer.name} copy"
+    if isinstance(layer, PaintLayer):
+        twin: Layer = doc.new_paint_layer(name, **props)
+        assert layer.pixels is not None
+        twin.pixels = layer.pixels.copy()  # type: ignore[attr-defined]
+    elif isinstance(layer, FillLayer):
+        content = {"value": layer.value} if layer.source is None else {"source": layer.source}
+        twin = doc.new_fill_layer(name, **content, **props)
+    elif isinstance(layer, FilterLayer):
+        twin = doc.new_filter_layer(layer.op, name, op_params=dict(layer.op_params), **props)
+    elif isinstance(layer, GroupLayer):
+        raise ValueError("duplicate a group's layers one by one (groups copy no members)")
+    else:  # pragma: no cover - new kinds must be taught here
+        raise ValueError(f"cannot duplicate a {layer.kind} layer")
+    if layer.mask is not None:
+        twin.mask = layer.mask.copy()  # the new layer is not in the document yet
+    return twin

@@ -4,12 +4,16 @@ The list is rebuilt from the document whenever it reports a change; every
 user change goes out as an edit through :class:`LayerCommands`. Drag the
 rows to reorder, double-click to rename, tick to show or hide. An opacity
 drag is one undo step (sealed on press and release, merged in between).
+Members of a group are indented under it. A layer with a mask shows the
+mask's thumbnail at the right of its row: click it to paint the mask (it
+gets a highlight; click again, or pick another layer, to paint pixels).
+Paint layers show their painted coverage as the row icon.
 """
 
 from __future__ import annotations
 
-from PySide6.QtCore import QSize, Qt, QTimer
-from PySide6.QtGui import QAction
+from PySide6.QtCore import QEvent, QModelIndex, QRect, QSize, Qt, QTimer
+from PySide6.QtGui import QAction, QColor, QIcon, QPainter, QPen, QPixmap
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
@@ -17,19 +21,28 @@ from PySide6.QtWidgets import (
     QLabel,
     QListWidget,
     QListWidgetItem,
+    QStyledItemDelegate,
+    QStyleOptionViewItem,
     QToolButton,
     QVBoxLayout,
     QWidget,
 )
 
-from ..layers import BLEND_MODES, FilterLayer, Layer
+from ..layers import BLEND_MODES, FilterLayer, Layer, PaintLayer
 from ..material import PARAMETER_KINDS
 from ..tools.widgets import FloatSlider, discard_widget
+from . import theme
 from .icons import icon
 from .layer_commands import LayerCommands
 from .session import DocumentSession
+from .thumbnails import gray_pixmap, grid_thumbnail
 
 _ID_ROLE = Qt.ItemDataRole.UserRole
+_DEPTH_ROLE = Qt.ItemDataRole.UserRole + 1
+_MASK_ROLE = Qt.ItemDataRole.UserRole + 2  # the mask thumbnail (QPixmap) or None
+_TARGET_ROLE = Qt.ItemDataRole.UserRole + 3  # strokes go into this row's mask
+INDENT = 16
+MASK_PX = 24
 _SHORT_NAMES = {
     "base_color": "Color",
     "roughness": "Rough",
@@ -50,6 +63,50 @@ def _describe(layer: Layer) -> str:
         )
         return f"{layer.kind} layer: {layer.op} ({values})"
     return f"{layer.kind} layer"
+
+
+class LayerRowDelegate(QStyledItemDelegate):
+    """Indents group members and draws (and takes clicks on) the mask thumbnail."""
+
+    def __init__(self, mask_clicked, parent=None) -> None:
+        super().__init__(parent)
+        self.mask_clicked = mask_clicked
+
+    @staticmethod
+    def mask_rect(option_rect: QRect) -> QRect:
+        top = option_rect.center().y() - MASK_PX // 2
+        return QRect(option_rect.right() - MASK_PX - 4, top, MASK_PX, MASK_PX)
+
+    def _shifted(self, option: QStyleOptionViewItem, index: QModelIndex) -> QStyleOptionViewItem:
+        shifted = QStyleOptionViewItem(option)
+        shifted.rect = option.rect.adjusted(
+            INDENT * (index.data(_DEPTH_ROLE) or 0), 0, -(MASK_PX + 8), 0
+        )
+        return shifted
+
+    def paint(self, painter: QPainter, option: QStyleOptionViewItem, index: QModelIndex) -> None:
+        super().paint(painter, self._shifted(option, index), index)
+        thumb = index.data(_MASK_ROLE)
+        if isinstance(thumb, QPixmap):
+            rect = self.mask_rect(option.rect)
+            painter.drawPixmap(rect, thumb)
+            chosen = bool(index.data(_TARGET_ROLE))
+            pen = QPen(QColor(theme.ACCENT if chosen else theme.BORDER), 2 if chosen else 1)
+            painter.setPen(pen)
+            painter.drawRect(rect.adjusted(0, 0, -1, -1))
+
+    def editorEvent(self, event, model, option, index) -> bool:  # noqa: N802 - Qt override
+        if (
+            event.type() == QEvent.Type.MouseButtonRelease
+            and isinstance(index.data(_MASK_ROLE), QPixmap)
+            and self.mask_rect(option.rect).contains(event.position().toPoint())
+        ):
+            self.mask_clicked(index.data(_ID_ROLE))
+            return True
+        return super().editorEvent(event, model, self._shifted(option, index), index)
+
+    def updateEditorGeometry(self, editor, option, index) -> None:  # noqa: N802 - Qt override
+        super().updateEditorGeometry(editor, self._shifted(option, index), index)
 
 
 class LayersPanel(QWidget):
@@ -95,7 +152,9 @@ class LayersPanel(QWidget):
         layout.addLayout(self.params_row)
 
         self.list = QListWidget()
-        self.list.setIconSize(QSize(18, 18))
+        self.list.setIconSize(QSize(22, 22))
+        self.list.setSelectionMode(QAbstractItemView.SelectionMode.ExtendedSelection)
+        self.list.setItemDelegate(LayerRowDelegate(self._mask_clicked, self.list))
         self.list.setDragDropMode(QAbstractItemView.DragDropMode.InternalMove)
         self.list.setEditTriggers(
             QAbstractItemView.EditTrigger.DoubleClicked
@@ -108,7 +167,17 @@ class LayersPanel(QWidget):
 
         buttons = QHBoxLayout()
         buttons.setSpacing(2)
-        for name in ("add_paint", "add_fill", "add_filter", "move_up", "move_down", "delete"):
+        for name in (
+            "add_paint",
+            "add_fill",
+            "add_filter",
+            "duplicate",
+            "group",
+            "add_mask",
+            "move_up",
+            "move_down",
+            "delete",
+        ):
             button = QToolButton()
             button.setDefaultAction(actions[name])
             button.setIconSize(QSize(18, 18))
@@ -123,6 +192,8 @@ class LayersPanel(QWidget):
         self._rebuilding = False
         session.layersChanged.connect(self.refresh)
         session.activeLayerChanged.connect(self.refresh)
+        session.targetChanged.connect(self.refresh)
+        session.historyChanged.connect(self._refresh_thumbnails)  # strokes end as steps
         session.documentReplaced.connect(self._rebuild_param_buttons)
         self._rebuild_param_buttons()
         self.refresh()
@@ -158,6 +229,8 @@ class LayersPanel(QWidget):
             for layer in reversed(doc.layers):
                 item = QListWidgetItem(icon(f"{layer.kind}_layer"), layer.name)
                 item.setData(_ID_ROLE, layer.id)
+                item.setData(_DEPTH_ROLE, self.commands.depth(layer))
+                self._set_thumbnails(item, layer)
                 item.setFlags(
                     Qt.ItemFlag.ItemIsSelectable
                     | Qt.ItemFlag.ItemIsEnabled
@@ -173,6 +246,39 @@ class LayersPanel(QWidget):
                     self.list.setCurrentItem(item)
         self._rebuilding = False
         self._show_active()
+
+    def _set_thumbnails(self, item: QListWidgetItem, layer: Layer) -> None:
+        if isinstance(layer, PaintLayer) and layer.pixels is not None and len(layer.pixels):
+            item.setIcon(QIcon(gray_pixmap(grid_thumbnail(layer.pixels, -1))))
+        mask = None
+        if layer.mask is not None:
+            mask = gray_pixmap(grid_thumbnail(layer.mask, 0), invert=layer.mask_inverted)
+        item.setData(_MASK_ROLE, mask)
+        target = self.session.mask_target and layer.id == self.session.active_layer_id
+        item.setData(_TARGET_ROLE, target)
+
+    def _refresh_thumbnails(self) -> None:
+        doc = self.session.doc
+        if doc is None:
+            return
+        for row in range(self.list.count()):
+            item = self.list.item(row)
+            try:
+                layer = doc.layer(item.data(_ID_ROLE))
+            except KeyError:
+                continue
+            self._rebuilding = True
+            self._set_thumbnails(item, layer)
+            self._rebuilding = False
+
+    def _mask_clicked(self, layer_id: int) -> None:
+        """The mask thumbnail: paint the mask (again: back to the layer's pixels)."""
+        on = not (self.session.mask_target and self.session.active_layer_id == layer_id)
+        self.session.set_active_layer(layer_id)
+        self.session.set_mask_target(on)
+
+    def selected_ids(self) -> list[int]:
+        return [item.data(_ID_ROLE) for item in self.list.selectedItems()]
 
     def _show_active(self) -> None:
         layer = self.session.active_layer
@@ -210,8 +316,11 @@ class LayersPanel(QWidget):
         elif item.text().strip() and item.text() != layer.name:
             self.commands.set_property(layer.id, "name", item.text().strip())
 
-    def _rows_moved(self, _parent, start: int, _end: int, _dest, row: int) -> None:
+    def _rows_moved(self, _parent, start: int, end: int, _dest, row: int) -> None:
         if self._rebuilding or self.session.doc is None:
+            return
+        if end != start:  # several rows dragged at once: not a single move
+            QTimer.singleShot(0, self.refresh)
             return
         count = self.list.count()
         target_row = row - 1 if row > start else row  # Qt gives the row before removal

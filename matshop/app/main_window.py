@@ -32,6 +32,9 @@ from ..tools.settings import BrushSettings, SwatchModel
 from ..tools.tool_panel import ToolPanel
 from ..viewport.canvas import TextureCanvas
 from ..viewport.display import display_mode, format_values
+from .background import BackgroundFlatten
+from .busy_indicator import BusyIndicator
+from .curves_dialog import CurvesDialog
 from .files import FileController
 from .history_panel import HistoryPanel
 from .layer_commands import LayerCommands
@@ -57,6 +60,8 @@ class MainWindow(QMainWindow):
         self.app_settings = AppSettings(settings)
         self.prompts = prompts or Prompts(self)
         self.session = DocumentSession()
+        # before anything that reads the flatten connects to the session
+        self.background = BackgroundFlatten(self.session, tool_busy=self._tool_busy)
         self.brush_settings = BrushSettings()
         self.swatch_model = SwatchModel()
         self.layer_commands = LayerCommands(self.session, self.swatch_model.swatch)
@@ -69,8 +74,10 @@ class MainWindow(QMainWindow):
             self.brush_settings,
             self.swatch_model,
             self.show_message,
+            lambda: self.background.ready,
         )
         self.tools: dict[str, Tool] = {cls.name: cls(self.host) for cls in TOOL_CLASSES}
+        self.curves_dialog: CurvesDialog | None = None
         self.canvas = TextureCanvas()
         self.actions_by_name = build_actions(self)
         build_menus(self, self.actions_by_name)
@@ -91,11 +98,16 @@ class MainWindow(QMainWindow):
         self.files.recentChanged.connect(self._rebuild_recent)
         self.layer_commands.message.connect(self.show_message)
         self.brush_settings.changed.connect(self.canvas.update)
+        self.session.targetChanged.connect(self._target_changed)
         self.canvas.cursorMoved.connect(self._cursor_moved)
         self._cursor = (math.nan, math.nan)
         # values under a still cursor change when a stroke or an undo lands
         self.session.historyChanged.connect(lambda: self._cursor_moved(*self._cursor))
         self.canvas.viewChanged.connect(self._view_changed)
+        self.background.busyChanged.connect(self._background_busy)
+        self.background.progress.connect(self._background_progress)
+        self.background.message.connect(self.show_message)
+        self.busy_indicator.cancel.clicked.connect(self.background.cancel)
 
         self.set_tool("brush")
         self._rebuild_recent()
@@ -193,7 +205,9 @@ class MainWindow(QMainWindow):
         self.texel_label.setFont(mono)
         self.values_label = QLabel("")
         self.values_label.setFont(mono)
+        self.busy_indicator = BusyIndicator()
         status.addPermanentWidget(self.values_label, 1)
+        status.addPermanentWidget(self.busy_indicator)
         status.addPermanentWidget(self.texel_label)
 
     # -- state -------------------------------------------------------------------
@@ -235,6 +249,19 @@ class MainWindow(QMainWindow):
     def redo(self) -> None:
         if not (self.canvas.tool is not None and self.canvas.tool.busy):
             self.session.redo()
+
+    def open_curves(self) -> CurvesDialog | None:
+        """The curves dialog on the active curves layer, or on a new one (window-modal)."""
+        dialog = CurvesDialog(
+            self.session, self.layer_commands, lambda: self.background.ready, parent=self
+        )
+        if not dialog.begin():
+            dialog.deleteLater()
+            return None
+        dialog.resize(460, 520)
+        dialog.open()
+        self.curves_dialog = dialog
+        return dialog
 
     def editor_state(self) -> dict[str, Any]:
         """What a project stores about the editor beside the document."""
@@ -291,6 +318,7 @@ class MainWindow(QMainWindow):
             "add_paint",
             "add_fill",
             "add_filter",
+            "curves",
             "fit",
             "actual",
             "zoom_in",
@@ -306,6 +334,13 @@ class MainWindow(QMainWindow):
         a["redo"].setText(f"&Redo {history.redo_label}" if can_redo else "&Redo")
         layer = session.active_layer
         a["delete"].setEnabled(layer is not None and has_doc and len(session.doc) > 1)
+        a["duplicate"].setEnabled(layer is not None and layer.kind != "group")
+        a["group"].setEnabled(layer is not None)
+        a["ungroup"].setEnabled(layer is not None and layer.parent is not None)
+        has_mask = layer is not None and layer.mask is not None
+        a["add_mask"].setEnabled(layer is not None and not has_mask)
+        a["remove_mask"].setEnabled(has_mask)
+        a["invert_mask"].setEnabled(has_mask)
         a["move_up"].setEnabled(self.layer_commands.can_move(1))
         a["move_down"].setEnabled(self.layer_commands.can_move(-1))
 
@@ -347,11 +382,36 @@ class MainWindow(QMainWindow):
             self.texel_label.setText("")
             self.values_label.setText("")
             return
+        if not self.background.ready:  # reading now would compute the slow filter here
+            self.texel_label.setText(f"x {ix:>5}  y {iy:>5}")
+            self.values_label.setText("computing…")
+            return
         rect = Rect(ix, iy, ix + 1, iy + 1)
         self.texel_label.setText(f"x {ix:>5}  y {iy:>5}")
         self.values_label.setText(format_values(doc.schema, doc.physical(rect, copy=False)))
         edit = doc.flatten_edit(rect, copy=False).reshape(-1)
         self.values_label.setToolTip("edit values: " + " ".join(f"{v:.3f}" for v in edit[:24]))
+
+    def _target_changed(self, mask: bool) -> None:
+        if mask:
+            self.show_message("Painting the mask: the brush hides the layer, the eraser reveals it")
+        else:
+            self.show_message("Painting layer pixels")
+
+    def _tool_busy(self) -> bool:
+        return self.canvas.tool is not None and self.canvas.tool.busy
+
+    def _background_busy(self, busy: bool) -> None:
+        self.canvas.set_held("Computing…" if busy else None)
+        if busy:
+            self.busy_indicator.show_progress(self.background.label, 0.0)
+        else:
+            self.busy_indicator.hide()
+            self._cursor_moved(*self._cursor)
+
+    def _background_progress(self, what: str, seconds: float) -> None:
+        self.busy_indicator.show_progress(what, seconds)
+        self.canvas.set_held(f"Computing {what}… {seconds:.1f} s")
 
     def _view_changed(self) -> None:
         self.zoom_label.setText(f"{self.canvas.view.zoom * 100:.0f}%")

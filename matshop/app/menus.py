@@ -79,7 +79,35 @@ def build_actions(w: MainWindow) -> dict[str, QAction]:
             icon_name="filter_layer",
             tip="New filter layer (blur, curves, bilateral...)",
         ),
+        "curves": _action(
+            w,
+            "&Curves...",
+            w.open_curves,
+            "Ctrl+M",
+            tip="Add a curves filter layer (or edit the selected one) with a curve editor",
+        ),
         "delete": _action(w, "&Delete Layer", layers.remove_active, icon_name="trash"),
+        "duplicate": _action(
+            w, "D&uplicate Layer", layers.duplicate_active, "Ctrl+J", icon_name="duplicate"
+        ),
+        "group": _action(
+            w,
+            "&Group Layers",
+            lambda: layers.group(w.layers_panel.selected_ids() or [w.session.active_layer_id]),
+            "Ctrl+G",
+            icon_name="group_layer",
+            tip="Put the selected layers in a new group",
+        ),
+        "ungroup": _action(w, "Move &Out of Group", layers.ungroup_active, "Ctrl+Shift+G"),
+        "add_mask": _action(
+            w,
+            "Add &Mask",
+            layers.add_mask,
+            icon_name="mask",
+            tip="Add a mask showing everything; click its thumbnail to paint it",
+        ),
+        "remove_mask": _action(w, "&Remove Mask", layers.remove_mask),
+        "invert_mask": _action(w, "&Invert Mask", layers.invert_mask),
         "move_up": _action(
             w, "Move Layer &Up", lambda: layers.move_active(1), "Ctrl+]", icon_name="up"
         ),
@@ -136,6 +164,11 @@ def build_menus(w: MainWindow, a: dict[str, QAction]) -> None:
     layer_menu = bar.addMenu("&Layer")
     layer_menu.addActions([a["add_paint"], a["add_fill"]])
     layer_menu.addMenu(w.filter_menu)
+    layer_menu.addAction(a["curves"])
+    layer_menu.addSeparator()
+    layer_menu.addActions([a["duplicate"], a["group"], a["ungroup"]])
+    layer_menu.addSeparator()
+    layer_menu.addActions([a["add_mask"], a["invert_mask"], a["remove_mask"]])
     layer_menu.addSeparator()
     layer_menu.addActions([a["move_up"], a["move_down"], a["delete"]])
 

@@ -188,7 +188,8 @@ def _summary(layer: Layer) -> str:
     if isinstance(layer, FilterLayer):
         spec = get_op(layer.op)
         linear = "linear" if spec.linear else "not linear"
-        return f"{spec.label} filter ({linear}): {spec.summary}\n{base}"
+        what = spec.label if spec.label.lower().endswith("filter") else f"{spec.label} filter"
+        return f"{what} ({linear}): {spec.summary}\n{base}"
     if isinstance(layer, PaintLayer):
         painted = 0 if layer.pixels is None else len(layer.pixels)
         return f"Paint layer, {painted} painted tiles\n{base}"

@@ -29,6 +29,8 @@ class DocumentSession(QObject):
     layersChanged = Signal()
     activeLayerChanged = Signal()
     modifiedChanged = Signal(bool)
+    #: strokes switched between the active layer's pixels and its mask
+    targetChanged = Signal(bool)
 
     def __init__(self) -> None:
         super().__init__()
@@ -39,8 +41,13 @@ class DocumentSession(QObject):
         #: what was opened (a texture set or the project); names the recovery file
         self.source_path: Path | None = None
         self.active_layer_id: int | None = None
+        #: strokes paint the active layer's mask (its thumbnail is selected), not its pixels
+        self.mask_target = False
         self._undo_tokens: list[int] = []
         self._redo_tokens: list[int] = []
+        # the edits beside their tokens (the history keeps them privately)
+        self._undo_edits: list[Edit] = []
+        self._redo_edits: list[Edit] = []
         self._saved_token = 0
         self._autosaved_token = 0
         self._forced_modified = False
@@ -64,9 +71,11 @@ class DocumentSession(QObject):
         self.project_path = project_path
         self.source_path = source_path
         self._undo_tokens, self._redo_tokens = [], []
+        self._undo_edits, self._redo_edits = [], []
         self._saved_token = self._autosaved_token = 0
         self._forced_modified = modified
         self.active_layer_id = None
+        self.mask_target = False
         if doc is not None:
             doc.events.layers.connect(self._on_layers)
             doc.events.layer.connect(self._on_layer)
@@ -85,10 +94,14 @@ class DocumentSession(QObject):
             assert self.doc is not None
             below = min(max(index - 1, 0), len(self.doc.layers) - 1)
             self.active_layer_id = self.doc.layers[below].id if self.doc.layers else None
+        if kind != "move":
+            self.set_mask_target(False)
         self.layersChanged.emit()
         self.activeLayerChanged.emit()
 
     def _on_layer(self, layer_id: int, name: str) -> None:
+        if name == "mask" and layer_id == self.active_layer_id:
+            self.set_mask_target(self.mask_target)  # the mask went: so does the target
         self.layersChanged.emit()
 
     @property
@@ -103,7 +116,16 @@ class DocumentSession(QObject):
     def set_active_layer(self, layer_id: int | None) -> None:
         if layer_id != self.active_layer_id:
             self.active_layer_id = layer_id
+            self.set_mask_target(False)
             self.activeLayerChanged.emit()
+
+    def set_mask_target(self, on: bool) -> None:
+        """Paint into the active layer's mask (only when it has one)."""
+        layer = self.active_layer
+        on = bool(on) and layer is not None and layer.mask is not None
+        if on != self.mask_target:
+            self.mask_target = on
+            self.targetChanged.emit(on)
 
     # -- history -------------------------------------------------------------
 
@@ -119,7 +141,9 @@ class DocumentSession(QObject):
             self._undo_tokens[-1] = next(_tokens)  # the step changed: no longer the saved one
         else:
             self._undo_tokens.append(next(_tokens))
+            self._undo_edits.append(edit)
         self._redo_tokens.clear()
+        self._redo_edits.clear()
         self._changed(before)
         return merged
 
@@ -134,6 +158,7 @@ class DocumentSession(QObject):
         before = self.modified
         edit = self.history.undo()
         self._redo_tokens.append(self._undo_tokens.pop())
+        self._redo_edits.append(self._undo_edits.pop())
         self._changed(before)
         return edit
 
@@ -143,6 +168,7 @@ class DocumentSession(QObject):
         before = self.modified
         edit = self.history.redo()
         self._undo_tokens.append(self._redo_tokens.pop())
+        self._undo_edits.append(self._redo_edits.pop())
         self._changed(before)
         return edit
 
@@ -154,6 +180,11 @@ class DocumentSession(QObject):
             pass
 
     @property
+    def last_edit(self) -> Edit | None:
+        """The step the next undo reverts (None: nothing to undo)."""
+        return self._undo_edits[-1] if self._undo_edits else None
+
+    @property
     def steps(self) -> int:
         """Undo steps currently applied."""
         return len(self._undo_tokens)
@@ -161,9 +192,9 @@ class DocumentSession(QObject):
     def _changed(self, was_modified: bool) -> None:
         # the history may have dropped its oldest steps to stay in budget
         if self.history is not None:
-            del self._undo_tokens[
-                : max(0, len(self._undo_tokens) - self.history.report().undo_steps)
-            ]
+            dropped = max(0, len(self._undo_tokens) - self.history.report().undo_steps)
+            del self._undo_tokens[:dropped]
+            del self._undo_edits[:dropped]
         self.historyChanged.emit()
         if self.modified != was_modified:
             self.modifiedChanged.emit(self.modified)

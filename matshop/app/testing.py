@@ -13,6 +13,7 @@ from pathlib import Path
 
 from PySide6.QtCore import QEvent, QPoint, QPointF, QSettings, Qt
 from PySide6.QtGui import QMouseEvent
+from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication, QWidget
 
 from .main_window import MainWindow
@@ -99,12 +100,18 @@ def drag(
     *,
     button: Qt.MouseButton = Qt.MouseButton.LeftButton,
     modifiers: Qt.KeyboardModifier = Qt.KeyboardModifier.NoModifier,
+    pause_ms: int = 0,
 ) -> None:
-    """Press at the first point, move through the others with the button held, release."""
+    """Press at the first point, move through the others with the button held, release.
+
+    ``pause_ms`` waits between events (pyqtgraph drops moves closer than 10 ms apart).
+    """
     pts = [QPointF(*p) if isinstance(p, tuple) else QPointF(p) for p in points]
     none = Qt.MouseButton.NoButton
     _mouse(widget, QEvent.Type.MouseButtonPress, pts[0], button, button, modifiers)
     for point in pts[1:]:
+        if pause_ms:
+            QTest.qWait(pause_ms)
         _mouse(widget, QEvent.Type.MouseMove, point, none, button, modifiers)
     _mouse(widget, QEvent.Type.MouseButtonRelease, pts[-1], button, none, modifiers)
 

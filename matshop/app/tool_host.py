@@ -21,12 +21,14 @@ class EditorToolHost:
         brush_settings: BrushSettings,
         swatch_model: SwatchModel,
         message: Callable[[str], None],
+        flatten_ready: Callable[[], bool] = lambda: True,
     ) -> None:
         self.session = session
         self.commands = commands
         self.brush_settings = brush_settings
         self.swatch_model = swatch_model
         self.message = message
+        self.flatten_ready = flatten_ready
 
     @property
     def doc(self) -> Document | None:
@@ -41,6 +43,9 @@ class EditorToolHost:
     def pick_swatch(self, x: int, y: int) -> None:
         doc = self.session.doc
         if doc is None:
+            return
+        if not self.flatten_ready():
+            self.message("The material is still being computed: pick again in a moment")
             return
         x = min(max(x, 0), doc.width - 1)
         y = min(max(y, 0), doc.height - 1)
@@ -64,6 +69,14 @@ class EditorToolHost:
         if layer_id is not None:
             self.message("Added a paint layer for the stroke")
         return layer_id
+
+    def stroke_target(self) -> str:
+        """``"mask"`` while the active layer's mask thumbnail is selected, else ``"pixels"``."""
+        return "mask" if self.session.mask_target else "pixels"
+
+    def mask_layer(self) -> int | None:
+        layer = self.session.active_layer
+        return None if layer is None or layer.mask is None else layer.id
 
     def push(self, edit: Edit) -> None:
         self.session.push(edit, applied=True)

@@ -67,7 +67,7 @@ def get_blend_mode(name: str) -> BlendMode:
         raise ValueError(f"unknown blend mode {name!r} (known: {', '.join(BLEND_MODES)})") from None
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, nogil=True, inline="always")
 def _blend_row(below, layer, alpha, mean, code, out, row):  # pragma: no cover - compiled
     width, channels = below.shape[1], below.shape[2]
     one = np.float32(1.0)
@@ -89,13 +89,13 @@ def _blend_row(below, layer, alpha, mean, code, out, row):  # pragma: no cover -
                 out[row, col, c] = b + a * (v - mean[c])
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _blend_serial(below, layer, alpha, mean, code, out):  # pragma: no cover - compiled
     for row in range(below.shape[0]):
         _blend_row(below, layer, alpha, mean, code, out, row)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def _blend_parallel(below, layer, alpha, mean, code, out):  # pragma: no cover - compiled
     for row in prange(below.shape[0]):
         _blend_row(below, layer, alpha, mean, code, out, row)

@@ -238,7 +238,11 @@ class Compositor:
         return block
 
     def background(self, rect: Rect) -> np.ndarray:
-        return np.tile(self.doc.background, (rect.height, rect.width, 1))
+        # a broadcast assignment releases the GIL (np.tile does not): a worker
+        # flattening a snapshot must not stall the GUI thread
+        out = np.empty((rect.height, rect.width, self.top.channels), dtype=np.float32)
+        out[...] = self.doc.background
+        return out
 
     def _apply(self, layer: Layer, block: np.ndarray, rect: Rect) -> None:
         """Blend a layer without neighbourhood onto ``block`` (covering ``rect``) in place."""

@@ -15,6 +15,7 @@ invalid tiles and convert through ``from_edit`` once per tile.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Iterator
 from typing import Any, Literal
 
@@ -434,6 +435,65 @@ class Document:
         stale = ~self._compositor.physical.valid
         if stale.any():
             self._compositor.physical_view(self.layout.bounds)
+        return stale
+
+    # -- working off the GUI thread ----------------------------------------------
+
+    def snapshot(self) -> Document:
+        """An independent document in the same state, without caches, for a worker thread.
+
+        Layers are copied (the owner may change a live layer's properties
+        while a worker reads the copy); what the copies share is immutable:
+        tiles (copy-on-write: edits swap tile objects, never write into one),
+        fill textures, background, op parameter dicts. Must not be called
+        while a paint transaction is open: its working tiles change in place.
+        """
+        twin = Document(
+            self.schema,
+            self.height,
+            self.width,
+            tile_size=self.layout.tile_size,
+            background=self.background,
+            name=self.name,
+        )
+        for layer in self.layers:
+            copied = copy.copy(layer)
+            if isinstance(copied, PaintLayer) and copied.pixels is not None:
+                copied.pixels = copied.pixels.copy()
+            if copied.mask is not None:
+                copied.mask = copied.mask.copy()
+            twin.insert_layer(copied)
+        return twin
+
+    def adopt_caches(self, snapshot: Document) -> None:
+        """Take over the flattened caches a worker computed on ``snapshot``.
+
+        Only valid while this document is in exactly the state the snapshot
+        was taken in; ``snapshot`` must not be used afterwards.
+        """
+        if snapshot.size != self.size or len(snapshot.layers) != len(self.layers):
+            raise ValueError("the snapshot is of another document state")
+        compositor = snapshot._compositor
+        compositor.doc = self
+        self._compositor = compositor
+
+    def stale_global_filters(self) -> list[FilterLayer]:
+        """Visible whole-image filter layers the next flatten must recompute.
+
+        A filter reading the whole image (bilateral, detail, or one blended in
+        "detail" mode) recomputes all of it when anything below it changes:
+        the slow part of a flatten, worth moving off an interactive thread.
+        """
+        compositor = self._compositor
+        if compositor.top.valid.all():
+            return []
+        stale = []
+        for layer in self.layers:
+            if isinstance(layer, FilterLayer) and self.shows(layer):
+                if layer.reach(self.layout) is None:
+                    cached = compositor.checkpoints.get(layer.id)
+                    if cached is None or not cached.valid.all():
+                        stale.append(layer)
         return stale
 
     def invalidate_all(self) -> None:

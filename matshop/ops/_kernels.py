@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit, prange
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def lerp(a, b, mask, out):
     """``out = (1 - mask) * a + mask * b``, mask ``(H, W)`` broadcast over channels.
 
@@ -27,7 +27,7 @@ def lerp(a, b, mask, out):
                 out[row, col, c] = keep * a[row, col, c] + m * b[row, col, c]
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def scale_lerp(a, factor, mask, out):
     """``out = (1 - mask) * a + mask * (factor * a)``: a masked scale in one pass."""
     height, width, channels = a.shape
@@ -40,7 +40,7 @@ def scale_lerp(a, factor, mask, out):
                 out[row, col, c] = keep * value + m * (factor * value)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", nogil=True)
 def _lut_at(lut, t):
     # linear interpolation in a uniform table over [0, 1], extended linearly
     # beyond it so out-of-range intermediates keep their meaning
@@ -55,7 +55,7 @@ def _lut_at(lut, t):
     return lut[i] + frac * (lut[i + 1] - lut[i])
 
 
-@njit(cache=True, parallel=True, fastmath=True)
+@njit(cache=True, parallel=True, fastmath=True, nogil=True)
 def lut_channels(src, channels, lo, span, lut, out):
     """For each listed channel c: ``out = lo[c] + span[c] * lut((src - lo[c]) / span[c])``.
 
@@ -84,7 +84,7 @@ def lut_channels(src, channels, lo, span, lut, out):
                 out[row, col, c] = lo32 + span32 * (lut32[i] + (pos - np.float32(i)) * slope32[i])
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def lut_vector(src, channels, quadrature, lut, hi, out):
     """The listed channels as one vector: ``v * hi * lut(|v| / hi) / |v|``, |v|^2 = sum(q v^2)."""
     height, width, _ = src.shape

@@ -17,7 +17,7 @@ from numba import njit, prange
 # ---------------------------------------------------------------- polygon -> mask
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def rasterize_polygon(xs, ys, height, width):
     """Pixels whose centre lies inside or on the closed polygon (even-odd rule).
 
@@ -79,7 +79,7 @@ def rasterize_polygon(xs, ys, height, width):
 # ---------------------------------------------------------------- boundary hierarchy
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def hierarchy_nodes(bx, by, levels):
     """Per level k, nodes at boundary indices j * 2**k; per edge (k, j) a bounding circle.
 
@@ -123,7 +123,7 @@ def hierarchy_nodes(bx, by, levels):
     return offsets, index, cx, cy, radius
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def edge_moment_entries(bx, by, offsets, index):
     """Moments of the boundary values over each coarse edge (levels >= 1), as COO rows.
 
@@ -170,7 +170,7 @@ def edge_moment_entries(bx, by, offsets, index):
     return rows[:pos], cols[:pos], vals[:pos], ones
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", nogil=True)
 def _edge_weight(x, y, ax, ay, bx_, by_):
     """tan(alpha/2) / |a - x| and tan(alpha/2) / |b - x| for the edge a -> b seen from x."""
     dax = ax - x
@@ -186,7 +186,7 @@ def _edge_weight(x, y, ax, ay, bx_, by_):
     return t / ra, t / rb
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def far_edge_geometry(bx, by, offsets, index):
     """Per coarse edge: its two end pixels and middle pixel with their tangents, and the
     map from the density at those three pixels to the coefficients of ``1, t, t**2``.
@@ -242,7 +242,7 @@ def far_edge_geometry(bx, by, offsets, index):
     return geo, lagrange
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", nogil=True)
 def _density(x, y, geo, e, o):
     """Mean-value weight per boundary pixel at ``geo[e, o:o+2]``, tangent ``geo[e, o+2:o+4]``.
 
@@ -255,7 +255,7 @@ def _density(x, y, geo, e, o):
     return (dx * geo[e, o + 3] - dy * geo[e, o + 2]) / (r2 * math.sqrt(r2))
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _traverse(x, y, tree, bx, by, geo, lagrange, ones, far2, stack, cols, vals, at):
     """Adaptive boundary of the point (x, y): accept coarse edges that are far, refine the rest.
 
@@ -329,7 +329,7 @@ def _traverse(x, y, tree, bx, by, geo, lagrange, ones, far2, stack, cols, vals, 
     return count - at, total
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _tree(bx, by, offsets, index, cx, cy, radius):
     """The hierarchy as ``_traverse`` reads it, and the far-edge geometry."""
     levels = offsets.shape[0] - 2
@@ -345,7 +345,7 @@ def _tree(bx, by, offsets, index, cx, cy, radius):
     return (offsets, level, index, end, cx, cy, radius * radius), geo, lagrange
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _weights_block(lo, hi, qx, qy, tree, bx, by, geo, lagrange, ones, far2, out):
     """Points lo..hi: their entry counts (``out`` = counts), or their rows (``out`` = CSR)."""
     offsets = tree[0]
@@ -367,7 +367,7 @@ def _weights_block(lo, hi, qx, qy, tree, bx, by, geo, lagrange, ones, far2, out)
             vals[e] = vals64[e] * inv
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def hierarchical_weights(qx, qy, bx, by, offsets, index, cx, cy, radius, ones, far):
     """CSR rows (int64 indptr, int32 columns, float32 values) of hierarchical MVC of each point.
 
@@ -429,7 +429,7 @@ def hierarchical_weights(qx, qy, bx, by, offsets, index, cx, cy, radius, ones, f
 # ---------------------------------------------------------------- mesh
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def mesh_layout(filled, on_chain, dist, band, density, top):
     """Classify a component's pixels and place the mesh vertices.
 
@@ -499,7 +499,7 @@ def mesh_layout(filled, on_chain, dist, band, density, top):
     return px, py, pkind, pvert, vpix, vtri
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def locate_pixels(vx, vy, triangles, vertex_rows, pixel_of, tri_out, bary_out):
     """Triangle and barycentric weights of every pixel marked in ``pixel_of`` (>= 0).
 
@@ -550,7 +550,7 @@ def locate_pixels(vx, vy, triangles, vertex_rows, pixel_of, tri_out, bary_out):
 # ---------------------------------------------------------------- per-clone kernels
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", nogil=True)
 def _csr_row(indptr, indices, data, dense, out, r):
     channels = dense.shape[1]
     for c in range(channels):
@@ -562,21 +562,21 @@ def _csr_row(indptr, indices, data, dense, out, r):
             out[r, c] += v * dense[col, c]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def csr_matmul(indptr, indices, data, dense, out):
     """``out = A @ dense`` for CSR ``A`` (duplicate columns add); one thread, for small ``A``."""
     for r in range(indptr.shape[0] - 1):
         _csr_row(indptr, indices, data, dense, out, r)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def csr_matmul_parallel(indptr, indices, data, dense, out):
     """``out = A @ dense`` for CSR ``A``, rows in parallel."""
     for r in prange(indptr.shape[0] - 1):
         _csr_row(indptr, indices, data, dense, out, r)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def clone_rows(out, target, source, sx, row_start, y0, dx, dy, wrap, tri, bary, table):
     """``out = target`` with ``source + membrane`` pasted, one target row per task.
 

@@ -63,19 +63,19 @@ def key_primes(dims: int, seed: int = 0x5EED) -> np.ndarray:
     return primes | np.int64(1)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _slot(key, shift, mask):
     return ((key * _GOLDEN) >> shift) & mask
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _entry(j, key):
     # a table slot: the point index in the high half, the key's low 32 bits
     # as a fingerprint in the low half (so mismatches cost no second access)
     return (np.int64(j) << 32) | (key & _LOW32)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _find(key, table, keys, shift, mask):
     """Index of the lattice point with ``key``, or -1.
 
@@ -95,7 +95,7 @@ def _find(key, table, keys, shift, mask):
         s = (s + 1) & mask
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _find_fast(key, table, keys, shift, mask):
     """:func:`_find` with the first two probes branch-free.
 
@@ -121,7 +121,7 @@ def _find_fast(key, table, keys, shift, mask):
     return r0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _insert(key, table, keys, count, shift, mask):
     """Index of ``key`` in the table, adding it as point ``count`` if new."""
     s = _slot(key, shift, mask)
@@ -139,7 +139,7 @@ def _insert(key, table, keys, count, shift, mask):
         s = (s + 1) & mask
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _grow(table, keys, count):
     """Twice the capacity, re-inserting the ``count`` points of ``keys``."""
     capacity = 2 * table.shape[0]
@@ -156,7 +156,7 @@ def _grow(table, keys, count):
     return table, bigger
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _log2(n):
     b = 0
     while (1 << b) < n:
@@ -164,7 +164,7 @@ def _log2(n):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _source(i, n, wrap):
     """Index into an axis of length ``n`` for padded index ``i`` (wrap or clamp)."""
     if wrap:
@@ -172,7 +172,7 @@ def _source(i, n, wrap):
     return min(max(i, 0), n - 1)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def locate(
     feat,
     used,
@@ -412,7 +412,7 @@ def locate(
     return count, table, keys
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def neighbours(count, keys, table, primes, lo, hi):
     """The lattice's neighbouring pairs along each direction, found once per tile.
 
@@ -461,7 +461,7 @@ def neighbours(count, keys, table, primes, lo, hi):
     return start, lo, hi
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _splat(image, first, width, top, left, rows, cols, wrap, idx, bw, vals, count):
     """Accumulate channels ``first:first + width`` and a 1, times the weights, on the vertices.
 
@@ -488,7 +488,7 @@ def _splat(image, first, width, top, left, rows, cols, wrap, idx, bw, vals, coun
             p += 1
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _blur(vals, tmp, count, start, lo, hi, passes):
     """[1 2 1] / 4 along each lattice direction; returns ``(result, spare)``.
 
@@ -518,7 +518,7 @@ def _blur(vals, tmp, count, start, lo, hi, passes):
     return vals, tmp
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _slice(image, out, first, width, row0, row1, col0, col1, margin, cols, idx, bw, vals):
     """Interpolate the blurred lattice at the core texels and normalise."""
     d1 = idx.shape[1]

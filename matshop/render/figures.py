@@ -3,7 +3,8 @@
 Each figure function takes a :class:`FigureContext` and returns a
 :class:`FigureResult` (the PNG it wrote and a one-line measurement). The
 figures live in their own modules: :mod:`.fig_strips` (Fig. 3),
-:mod:`.fig_plots` (Figs. 4, 5, 6), :mod:`.fig_edits` (Figs. 2, 7).
+:mod:`.fig_plots` (Figs. 4, 5, 6), :mod:`.fig_edits` (Figs. 2, 7),
+:mod:`.fig_aniso` (Fig. 7(h)), :mod:`.fig_steep` (Fig. 2 on synthetic relief).
 """
 
 from __future__ import annotations
@@ -61,9 +62,11 @@ FIGURES: dict[str, tuple[str, str]] = {
     "fig3": ("fig_strips", "fig3"),
     "fig5": ("fig_plots", "fig5"),
     "fig2": ("fig_edits", "fig2"),
+    "fig2s": ("fig_steep", "fig2_synthetic"),
     "fig4": ("fig_plots", "fig4"),
     "fig6": ("fig_plots", "fig6"),
     "fig7": ("fig_edits", "fig7"),
+    "fig7h": ("fig_aniso", "fig7h"),
 }
 
 

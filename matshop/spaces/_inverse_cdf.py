@@ -66,7 +66,7 @@ def y_grid(n: int, kind: YGrid = "cosine") -> tuple[np.ndarray, np.ndarray]:
 # --------------------------------------------------------------------------- PCHIP
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _edge_slope(h0, h1, m0, m1):
     """scipy's one-sided three-point end-point derivative (Moler, pchiptx)."""
     d = ((2.0 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
@@ -77,7 +77,7 @@ def _edge_slope(h0, h1, m0, m1):
     return d
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _pchip_slopes(x, y, n, dk):
     """Derivatives at the first ``n`` knots into ``dk`` (scipy PchipInterpolator rules)."""
     if n == 2:
@@ -106,7 +106,7 @@ def _pchip_slopes(x, y, n, dk):
     dk[n - 1] = _edge_slope(h0, h1, (y[n - 1] - y[n - 2]) / h0, (y[n - 2] - y[n - 3]) / h1)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _pchip_eval_sorted(x, y, dk, n, xq, out):
     """Evaluate the Hermite cubic at increasing ``xq`` by a merge walk.
 
@@ -129,7 +129,7 @@ def _pchip_eval_sorted(x, y, dk, n, xq, out):
         out[j] = h00 * y[i] + h10 * h * dk[i] + h01 * y[i + 1] + h11 * h * dk[i + 1]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _pchip_kernel(x, y, xq, out):
     n = x.shape[0]
     dk = np.empty(n)
@@ -165,7 +165,7 @@ def pchip(x: np.ndarray, y: np.ndarray, xq: np.ndarray) -> np.ndarray:
 COORDS = {"x": 0, "sin2": 1, "square": 2}
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _u_of_x(x, coord):
     if coord == 1:
         s = np.sin(x)
@@ -175,7 +175,7 @@ def _u_of_x(x, coord):
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _x_of_u(u, coord, lo, hi):
     if coord == 1:
         x = np.arcsin(np.sqrt(min(max(u, 0.0), 1.0)))
@@ -186,7 +186,7 @@ def _x_of_u(u, coord, lo, hi):
     return min(max(x, lo), hi)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
     rows, nb = pdf.shape
     nk = nb + 1
@@ -231,7 +231,7 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
                 out[p, j] = _x_of_u(uq[j], coord, lo, hi)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
     rows, m = q.shape
     nb = weights.shape[0]

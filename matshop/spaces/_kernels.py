@@ -45,13 +45,19 @@ from numba import get_num_threads, njit, prange
 from numpy.lib.stride_tricks import as_strided
 
 #: options of the scalar helpers (inlined into the kernels)
-_INLINE = {"inline": "always", "error_model": "numpy", "fastmath": {"contract"}}
+_INLINE = {"inline": "always", "error_model": "numpy", "fastmath": {"contract"}, "nogil": True}
 #: options of the workers (a parallel kernel calls one per chunk, a chunk a few
 #: per block): each compiled on its own, which keeps numba's parfor lowering
 #: small; one function holding everything compiles several times slower
-_WORKER = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}}
+_WORKER = {"cache": True, "error_model": "numpy", "fastmath": {"contract"}, "nogil": True}
 #: options of the kernels
-_KERNEL = {"parallel": True, "cache": True, "error_model": "numpy", "fastmath": {"contract"}}
+_KERNEL = {
+    "parallel": True,
+    "cache": True,
+    "error_model": "numpy",
+    "fastmath": {"contract"},
+    "nogil": True,
+}
 
 #: texels per scratch block (planar float64: 4 KiB per channel)
 BLOCK = 512

@@ -56,12 +56,24 @@ class ToolHost(Protocol):
         telling the user) if there is none."""
         ...
 
+    def stroke_target(self) -> str:
+        """``"pixels"`` (a paint layer's values) or ``"mask"`` (the active layer's mask)."""
+        ...
+
+    def mask_layer(self) -> int | None:
+        """Id of the active layer when it has a mask (strokes on ``"mask"`` go there)."""
+        ...
+
     def push(self, edit: Edit) -> None:
         """Record an already applied edit as one undo step."""
         ...
 
     def message(self, text: str) -> None:
         """Tell the user something short (status bar)."""
+        ...
+
+    def flatten_ready(self) -> bool:
+        """Reading the flattened document is cheap now (no slow filter is being computed)."""
         ...
 
 

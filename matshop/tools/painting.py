@@ -1,6 +1,8 @@
 """Brush, eraser, clone stamp and eyedropper: pointer events -> strokes on the document.
 
-Each stroke is one :class:`~matshop.paint.StrokeSession`: press starts it,
+Each stroke is one :class:`~matshop.paint.StrokeSession` into the active
+paint layer, or into the active layer's mask while its thumbnail is selected
+(the brush hides, the eraser reveals): press starts it,
 every move feeds it a sample, release ends it and hands the single edit to
 the host's history, so a stroke is one undo step. Engine refusals (a swatch
 that does not cover the layer's parameters...) become a status message, never
@@ -13,6 +15,10 @@ import math
 
 from ..paint import StrokeSample, StrokeSession
 from .base import Tool, ToolEvent, ToolHost
+
+#: What the brush paints into a mask: 0 hides the layer there, like painting black in
+#: a paint program's layer mask (a new mask shows everything); the eraser paints 1 - it.
+MASK_HIDE = 0.0
 
 
 def _sample(event: ToolEvent) -> StrokeSample:
@@ -41,14 +47,18 @@ class StrokeTool(Tool):
         doc = self.host.doc
         if doc is None or self._session is not None:
             return
-        options = self._options(event)
-        if options is None:
-            return
-        swatch = options.get("swatch")
-        layer_id = self.host.stroke_layer(
-            create=self.creates_layer, parameters=None if swatch is None else swatch.parameters
-        )
-        if layer_id is None:
+        if self.host.stroke_target() == "mask" and not event.pick:
+            options = self._mask_options()
+            layer_id = self.host.mask_layer()
+        else:
+            options = self._options(event)
+            if options is None:
+                return
+            swatch = options.get("swatch")
+            layer_id = self.host.stroke_layer(
+                create=self.creates_layer, parameters=None if swatch is None else swatch.parameters
+            )
+        if options is None or layer_id is None:
             return
         try:
             self._session = StrokeSession(
@@ -58,6 +68,13 @@ class StrokeTool(Tool):
             self.host.message(str(exc))
             return
         self._session.add([_sample(event)])
+
+    def _mask_options(self) -> dict | None:
+        """A stroke on the mask: the brush hides (paints 0), the eraser reveals (paints 1)."""
+        if self.mode == "clone":
+            self.host.message("The clone stamp paints layer pixels: select the layer, not its mask")
+            return None
+        return {"target": "mask", "mask_value": MASK_HIDE}
 
     def move(self, event: ToolEvent) -> None:
         if self._session is not None:
@@ -134,6 +151,9 @@ class CloneTool(StrokeTool):
             self.source = (event.x, event.y)
             self.offset = None
             self.host.message(f"Clone source set at {int(event.x)}, {int(event.y)}")
+            return None
+        if not self.host.flatten_ready():  # the stamp reads the flattened material
+            self.host.message("The material is still being computed: clone in a moment")
             return None
         if self.offset is None:
             if self.source is None:

@@ -60,6 +60,8 @@ class TextureCanvas(QWidget):
         self._pan_from: QPointF | None = None
         self._space = False
         self._cursor: QPointF | None = None
+        #: while set, the flatten is being computed elsewhere: keep the last picture
+        self._held: str | None = None
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
         self._timer.setInterval(0)
@@ -102,8 +104,26 @@ class TextureCanvas(QWidget):
             self.cache.mark(region)
             self._timer.start()
 
+    def set_held(self, note: str | None) -> None:
+        """Hold the picture (do not read the document) while ``note`` is set; shown on top.
+
+        The flatten is being computed off the GUI thread; reading it here would
+        compute it again, synchronously. Clearing the note catches up.
+        """
+        was, self._held = self._held, note
+        if note is None:
+            self._timer.start()
+        if (was is None) != (note is None):
+            self.update()
+        else:  # only the note's text changed
+            self.update(QRect(0, 0, self.width(), 64))
+
+    @property
+    def held(self) -> bool:
+        return self._held is not None
+
     def _refresh_some(self) -> None:
-        if self.cache is None:
+        if self.cache is None or self._held is not None:
             return
         done = self.cache.refresh(first=self._visible_texels())
         for rect in done:
@@ -112,8 +132,8 @@ class TextureCanvas(QWidget):
             self._timer.start()
 
     def flush(self) -> None:
-        """Convert every stale tile now (tests, screenshots)."""
-        if self.cache is not None:
+        """Convert every stale tile now (tests, screenshots), unless the picture is held."""
+        if self.cache is not None and self._held is None:
             self.cache.refresh(budget_s=None)
             self.update()
 
@@ -193,6 +213,8 @@ class TextureCanvas(QWidget):
             target = QRectF(x0, y0, visible.width * view.zoom, visible.height * view.zoom)
             painter.drawImage(target, self._image, source)
         self._paint_cursor(painter)
+        if self._held is not None:
+            self._paint_note(painter, self._held)
 
     def _paint_empty(self, painter: QPainter) -> None:
         painter.setPen(QColor(140, 143, 150))
@@ -204,6 +226,20 @@ class TextureCanvas(QWidget):
             Qt.AlignmentFlag.AlignCenter,
             "Open a texture set or a .matshop project\n(Ctrl+O, or drop files here)",
         )
+
+    def _paint_note(self, painter: QPainter, text: str) -> None:
+        """A pill at the top centre saying why the picture is not up to date."""
+        font = painter.font()
+        metrics = painter.fontMetrics()
+        width = metrics.horizontalAdvance(text) + 28
+        pill = QRectF((self.width() - width) / 2, 12, width, metrics.height() + 12)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        painter.setPen(Qt.PenStyle.NoPen)
+        painter.setBrush(QColor(20, 21, 24, 215))
+        painter.drawRoundedRect(pill, pill.height() / 2, pill.height() / 2)
+        painter.setPen(QColor(220, 221, 224))
+        painter.setFont(font)
+        painter.drawText(pill, Qt.AlignmentFlag.AlignCenter, text)
 
     def _paint_cursor(self, painter: QPainter) -> None:
         if self._cursor is None or self.tool is None or self._pan_from is not None:

@@ -6,7 +6,8 @@ by pixel (``tests/test_viewport_gl.py``):
 
 - BRDF: ``kd/pi + F(ks, i.h) D(h) G(i, o) / (4 |i.n| |o.n|)``, Schlick F,
   Cook-Torrance G, D in GGX / Beckmann / Phong / Ashikhmin-Shirley
-  (:mod:`matshop.render.brdf`); the sampled family is not on the GPU yet;
+  (:mod:`matshop.render.brdf`), and the sampled family from a 16-level lookup
+  of its inverse CDF (:mod:`.shading_maps` says how, and what it approximates);
 - environment specular: the *same* filtered importance sampling as the
   reference (not split-sum): the same Hammersley set of ``N`` points mapped
   through the texel's lobe, each sample reading the environment's box-filtered
@@ -32,7 +33,7 @@ VERSION = "#version 330 core\n"
 
 MAX_LIGHTS = 4
 #: D families by the integer the shader switches on
-FAMILY_CODES = {"ggx": 0, "beckmann": 1, "phong": 2, "ashikhmin_shirley": 3}
+FAMILY_CODES = {"ggx": 0, "beckmann": 1, "phong": 2, "ashikhmin_shirley": 3, "sampled": 4}
 
 MESH_VERTEX = (
     VERSION
@@ -102,6 +103,10 @@ uniform sampler2D u_ks_lobe;      // ks (linear), lobe parameter 0
 uniform sampler2D u_normal_lobe;  // tangent-space normal, lobe parameter 1
 uniform sampler2D u_tangent;      // tangent-space tangent (when u_has_tangent)
 uniform sampler2D u_emissive;     // emissive (when u_has_emissive)
+uniform sampler2D u_q0;           // sampled lobe: sin^2 theta at y = (j + 1/2) / 16, j 0-3
+uniform sampler2D u_q1;           // j 4-7
+uniform sampler2D u_q2;           // j 8-11
+uniform sampler2D u_q3;           // j 12-15
 uniform bool u_has_tangent;
 uniform bool u_has_emissive;
 uniform float u_texture_lod;      // < 0: the hardware's per-pixel level; else this level
@@ -130,11 +135,51 @@ vec3 unit_or_z(vec3 v) {
     return len > 1e-8 ? v / len : vec3(0.0, 0.0, 1.0);
 }
 
+// ---- the sampled lobe of this pixel: its inverse CDF as x = sin^2 theta at 18 nodes,
+// y = 0, (j + 1/2) / 16 for j = 0..15, 1 (shading_maps.quantile_table)
+float g_x[18];
+
+float node_y(int k) {
+    return k == 0 ? 0.0 : (k == 17 ? 1.0 : (float(k) - 0.5) / 16.0);
+}
+
+void load_quantiles(vec2 uv) {
+    vec4 q[4] = vec4[4](material(u_q0, uv), material(u_q1, uv), material(u_q2, uv),
+                        material(u_q3, uv));
+    g_x[0] = 0.0;
+    for (int k = 0; k < 16; ++k) {
+        // non-monotone texels (filtering, edits) are legal: sort by a running max
+        g_x[k + 1] = clamp(max(q[k / 4][k % 4], g_x[k]), 0.0, 1.0);
+    }
+    g_x[17] = 1.0;
+}
+
+// D of the segment k: the CDF is linear in x there, and dx dphi / 2 is the
+// projected solid angle, so D = (dy / dx) / pi
+float segment_d(int k) {
+    return (node_y(k + 1) - node_y(k)) / (PI * max(g_x[k + 1] - g_x[k], 1e-7));
+}
+
+// D at x: log-linear between the segments' midpoints (flat beyond the outer ones), so
+// the highlight has no steps at the 17 nodes
+float sampled_d(float x) {
+    int k = 0;
+    while (k < 16 && x >= g_x[k + 1]) ++k;
+    int j = x < 0.5 * (g_x[k] + g_x[k + 1]) ? k - 1 : k;
+    if (j < 0 || j > 15) return segment_d(k);
+    float m0 = 0.5 * (g_x[j] + g_x[j + 1]);
+    float m1 = 0.5 * (g_x[j + 1] + g_x[j + 2]);
+    float t = clamp((x - m0) / max(m1 - m0, 1e-9), 0.0, 1.0);
+    // geometric: lobes fall off roughly exponentially in x (Beckmann exactly)
+    return pow(max(segment_d(j), 1e-30), 1.0 - t) * pow(max(segment_d(j + 1), 1e-30), t);
+}
+
 // ---- D(h), normalised over the projected hemisphere (matshop.render.brdf)
 float distribution(vec3 h, vec2 p) {
     if (h.z <= 0.0) return 0.0;
     float c2 = h.z * h.z;
     float s2 = max(1.0 - c2, 0.0);
+    if (u_family == 4) return sampled_d(s2);
     if (u_family == 0) {
         float a2 = p.x * p.x;
         float q = a2 * c2 + s2;
@@ -186,6 +231,17 @@ vec3 from_tan2(float tan2, float u2, out float cos2) {
 vec3 sample_lobe(vec2 u, vec2 p, out float pdf) {
     float y = u.x;
     float cos2;
+    if (u_family == 4) {
+        // the segment starting at the node at or below y (the reference's searchsorted)
+        int k = clamp(int(floor(16.0 * y + 0.5)), 0, 16);
+        float t = clamp((y - node_y(k)) / (node_y(k + 1) - node_y(k)), 0.0, 1.0);
+        float x = mix(g_x[k], g_x[k + 1], t);
+        float sin_t = sqrt(x);
+        float cos_t = sqrt(max(1.0 - x, 1e-12));
+        float phi = 2.0 * PI * u.y;
+        pdf = sampled_d(x) * cos_t;
+        return vec3(sin_t * cos(phi), sin_t * sin(phi), cos_t);
+    }
     if (u_family == 0) {
         float a2 = p.x * p.x;
         vec3 h = from_tan2(a2 * (y / (1.0 - y)), u.y, cos2);
@@ -264,6 +320,7 @@ void main() {
     vec3 kd = kd_ao.rgb;
     vec3 ks = ks_lobe.rgb;
     vec2 lobe = vec2(ks_lobe.a, normal_lobe.a);
+    if (u_family == 4) load_quantiles(v_uv);
 
     // shading frame (matshop.render.integrator.shading_frame)
     vec3 nl = unit_or_z(normal_lobe.xyz);

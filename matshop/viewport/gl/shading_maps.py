@@ -15,12 +15,25 @@ Packed four channels per texture so a shader lookup is few fetches:
 ``normal_lobe`` tangent-space normal xyz, lobe parameter 1 (AS ``nv``)
 ``tangent``     tangent-space tangent xyz, 0 (only with a 6-channel frame)
 ``emissive``    emissive rgb, 0 (only with an emissive map)
+``q0``-``q3``   sampled lobes: ``sin^2 theta`` at 16 quantile levels (below)
 ==============  ========================================
 
-The sampled family is not on the GPU yet: its lobe is shown as the GGX lobe
-with the same median angle (``alpha = tan c^-1(1/2)``), which
-:func:`lobe_family` reports. ``set_lobe`` overrides convert parameters by the
-usual equivalences (Beckmann ``m = alpha``, Phong ``n = 2 / m^2 - 2``).
+Sampled (tabulated) lobes travel as a lookup of their edit value, the
+inverse CDF, cut down from the sampled space's 128 levels to the 16 levels
+``y_j = (j + 1/2) / 16`` -- exactly the ``u1`` of a 16-point Hammersley set,
+so the GPU draws the reference's 16 environment samples exactly (the
+reference's own interpolation, :func:`matshop.render.sampling.sample_quantiles`,
+computes them). The table holds ``x = sin^2 theta`` rather than ``theta``:
+the projected-solid-angle measure is ``cos sin dtheta dphi = dx dphi / 2``, so
+a CDF piecewise linear in ``x`` has the *finite* piecewise-constant density
+``D = (dy / dx) / pi``, which the shader uses for the directional lights'
+``D(h)`` and for the samples' pdf. That is the approximation: D is read from
+17 segments of the inverse CDF instead of the reference's 128-bin table
+(``tests/test_viewport_gl_lobes.py`` measures it). ``set_lobe("ggx")`` shows
+a sampled lobe as the GGX lobe with its median angle (``alpha = tan c^-1(1/2)``).
+
+``set_lobe`` overrides convert analytic parameters by the usual equivalences
+(Beckmann ``m = alpha``, Phong ``n = 2 / m^2 - 2``).
 """
 
 from __future__ import annotations
@@ -32,8 +45,11 @@ import numpy as np
 from ...material import Material, Schema
 from ...render.surface import MIN_ROUGHNESS, prepare
 
-TEXTURES = ("kd_ao", "ks_lobe", "normal_lobe", "tangent", "emissive")
-FAMILIES = ("ggx", "beckmann", "phong", "ashikhmin_shirley")
+QUANTILE_TEXTURES = ("q0", "q1", "q2", "q3")
+TEXTURES = ("kd_ao", "ks_lobe", "normal_lobe", "tangent", "emissive", *QUANTILE_TEXTURES)
+FAMILIES = ("ggx", "beckmann", "phong", "ashikhmin_shirley", "sampled")
+#: the quantile levels on the GPU: the u1 of a 16-point Hammersley set
+QUANTILE_LEVELS = (np.arange(16) + 0.5) / 16
 
 
 def _slope(family: str, lobe: np.ndarray) -> np.ndarray:
@@ -66,9 +82,11 @@ def lobe_family(schema: Schema, override: str | None = None) -> str:
     if override is not None:
         if override not in FAMILIES:
             raise ValueError(f"unknown lobe {override!r} (use one of {', '.join(FAMILIES)})")
+        if override == "sampled" and "distribution" not in schema:
+            raise ValueError("the sampled lobe needs a tabulated distribution")
         return override
     for name, family in (
-        ("distribution", "ggx"),  # shown as its median-matched GGX
+        ("distribution", "sampled"),
         ("anisotropic_exponents", "ashikhmin_shirley"),
         ("phong_exponent", "phong"),
         ("beckmann_roughness", "beckmann"),
@@ -86,10 +104,16 @@ def pack(
     surface = prepare(material)
     family = surface.family
     lobe = surface.lobe
-    if family == "sampled":
-        family, lobe = "ggx", _median_alpha(surface.quantiles, surface.levels)
-    lobe = convert_lobe(family, lobe, lobe_family(schema, override))
+    target = lobe_family(schema, override)
     h, w = surface.kd.shape[:2]
+    quantiles = None
+    if target == "sampled":
+        quantiles = quantile_table(surface.quantiles, surface.levels)
+        lobe = np.zeros((h, w, 2), np.float32)
+    else:
+        if family == "sampled":
+            family, lobe = "ggx", _median_alpha(surface.quantiles, surface.levels)
+        lobe = convert_lobe(family, lobe, target)
     ao = surface.ao if surface.ao is not None else np.ones((h, w, 1), np.float32)
     out = {
         "kd_ao": np.concatenate([surface.kd, ao], axis=2),
@@ -101,7 +125,25 @@ def pack(
         out["tangent"] = np.concatenate([surface.tangent, zero], axis=2)
     if surface.emissive is not None:
         out["emissive"] = np.concatenate([surface.emissive, zero], axis=2)
+    if quantiles is not None:
+        for k, name in enumerate(QUANTILE_TEXTURES):
+            out[name] = quantiles[..., 4 * k : 4 * k + 4]
     return {k: np.ascontiguousarray(v, dtype=np.float32) for k, v in out.items()}
+
+
+def quantile_table(quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:
+    """``sin^2 theta`` ``(H, W, 16)`` of tabulated lobes at :data:`QUANTILE_LEVELS`.
+
+    ``quantiles`` ``(H, W, M)`` is the sampled space's edit value at ``levels``;
+    read exactly as the reference's sampler reads it (sorted, clamped, linear
+    in ``theta`` between levels).
+    """
+    from ...render.sampling import sample_quantiles
+
+    h, w, m = quantiles.shape
+    u2 = np.zeros(QUANTILE_LEVELS.size)
+    _, _, hz, _ = sample_quantiles(quantiles.reshape(-1, m), levels, QUANTILE_LEVELS, u2)
+    return np.clip(1.0 - hz * hz, 0.0, 1.0).reshape(h, w, -1).astype(np.float32)
 
 
 def _median_alpha(quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:
@@ -113,13 +155,15 @@ def _median_alpha(quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:
     return np.clip(np.tan(np.clip(theta, 0.0, 1.5)), MIN_ROUGHNESS, 1.0)[..., None]
 
 
-def present(schema: Schema) -> tuple[str, ...]:
-    """Which of :data:`TEXTURES` a material of ``schema`` fills."""
+def present(schema: Schema, family: str | None = None) -> tuple[str, ...]:
+    """Which of :data:`TEXTURES` a material of ``schema`` fills, shown with lobe ``family``."""
     names = ["kd_ao", "ks_lobe", "normal_lobe"]
     if "normal" in schema and schema["normal"].phys_channels >= 6:
         names.append("tangent")
     if "emissive" in schema:
         names.append("emissive")
+    if (family or lobe_family(schema)) == "sampled":
+        names.extend(QUANTILE_TEXTURES)
     return tuple(names)
 
 

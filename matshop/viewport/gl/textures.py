@@ -29,8 +29,9 @@ from . import shading_maps
 from .shaders import FAMILY_CODES
 
 BYTES_PER_TEXEL = 4 * 2  # RGBA16F
-#: texture units: the material's textures first, then the environment's
-UNITS = {name: unit for unit, name in enumerate(shading_maps.TEXTURES)}
+#: texture units: the material's (0-4, and 7-10 for a sampled lobe's quantiles);
+#: the environment's are 5 and 6 (EnvironmentTextures)
+UNITS = {name: unit if unit < 5 else unit + 2 for unit, name in enumerate(shading_maps.TEXTURES)}
 
 
 def _new_texture(width: int, height: int, max_level: int) -> int:
@@ -68,7 +69,7 @@ class MaterialTextures:
         self.tile_mips = aligned
         full = int(math.log2(max(self.width, self.height)))
         self.max_level = int(math.log2(tile)) if aligned else full
-        self.names = shading_maps.present(doc.schema)
+        self.names = shading_maps.present(doc.schema, self.family)
         self.textures = {
             name: _new_texture(self.width, self.height, self.max_level) for name in self.names
         }
@@ -155,7 +156,7 @@ class MaterialTextures:
     # -- drawing -----------------------------------------------------------
 
     def bind(self, program) -> None:
-        """Bind every material sampler of ``program`` (units 0..4) and the presence flags."""
+        """Bind every material sampler of ``program`` (:data:`UNITS`) and the presence flags."""
         for name in shading_maps.TEXTURES:
             unit = UNITS[name]
             GL.glActiveTexture(GL.GL_TEXTURE0 + unit)

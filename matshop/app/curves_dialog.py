@@ -1,0 +1,349 @@
+"""The curves dialog: a tone curve drawn and dragged on a pyqtgraph plot.
+
+The curve drawn is the engine's own PCHIP table (:func:`~matshop.ops.curves.curve_lut`),
+over a histogram of the chosen parameter's edit values mapped to [0, 1] the
+way the op maps them. Click the plot to add a point, drag a point to move it,
+drag it off the plot or double-click it to remove it.
+
+The dialog edits a *curves filter layer* through edits only: opening it on a
+curves layer edits that layer; opening it elsewhere adds one (its own undo
+step). A point drag is one undo step: ``started`` seals the history, each
+tick pushes ``SetProperty(op_params)`` with ``merge=True`` (live preview on
+the canvas), ``finished`` seals again. Cancel goes back to the history step
+the dialog opened at, so the document is bit-identical to before.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import QPointF, Qt
+from PySide6.QtWidgets import (
+    QComboBox,
+    QDialog,
+    QDialogButtonBox,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..layers import FilterLayer
+from ..ops.curves import IDENTITY_POINTS
+from ..tools.settings import short_label
+from . import theme
+from .curve_points import CurvePoints
+from .histogram import edit_histogram
+from .layer_commands import LayerCommands
+from .session import DocumentSession
+
+#: Pixels within which a press grabs a point.
+GRAB_PX = 9.0
+#: How far past the plot (in curve units) a point must be dragged to be removed.
+REMOVE_MARGIN = 0.06
+HISTOGRAM_BINS = 128
+#: Texels of the flatten kept for histograms (strided; plenty for 128 bins).
+HISTOGRAM_TEXELS = 1 << 19
+LINKED = ""  # combo data of "all parameters, one curve"
+
+
+class CurveView(pg.ViewBox):
+    """The [0, 1]^2 plot area; turns mouse gestures into :class:`CurvePoints` calls."""
+
+    def __init__(self, model: CurvePoints) -> None:
+        super().__init__(enableMenu=False)
+        self.model = model
+        self.setMouseEnabled(x=False, y=False)
+        self.setRange(xRange=(0.0, 1.0), yRange=(0.0, 1.0), padding=0.02)
+        self.hist = pg.PlotCurveItem(
+            [0.0, 1.0],
+            [0.0],
+            stepMode="center",
+            fillLevel=0.0,
+            brush=pg.mkBrush(120, 124, 134, 70),
+            pen=None,
+        )
+        self.diagonal = pg.PlotCurveItem(
+            [0.0, 1.0], [0.0, 1.0], pen=pg.mkPen(theme.BORDER, width=1, style=Qt.PenStyle.DashLine)
+        )
+        self.curve = pg.PlotCurveItem(pen=pg.mkPen(theme.ACCENT, width=2))
+        self.scatter = pg.ScatterPlotItem(
+            size=10, pen=pg.mkPen("#ffffff", width=1.5), brush=pg.mkBrush(theme.BASE)
+        )
+        for item in (self.hist, self.diagonal, self.curve, self.scatter):
+            self.addItem(item)
+        for q in (0.25, 0.5, 0.75):
+            for angle in (0, 90):
+                line = pg.InfiniteLine(q, angle=angle, pen=pg.mkPen(theme.RAISED, width=1))
+                line.setZValue(-10)
+                self.addItem(line)
+        model.changed.connect(self.redraw)
+        self.redraw()
+
+    def set_histogram(self, counts: np.ndarray | None) -> None:
+        if counts is None or not counts.size:
+            self.hist.setData([0.0, 1.0], [0.0])
+            return
+        edges = np.linspace(0.0, 1.0, counts.size + 1)
+        self.hist.setData(edges, np.sqrt(counts))  # sqrt: one spike hides nothing else
+
+    def redraw(self) -> None:
+        x, y = self.model.curve()
+        self.curve.setData(x, np.clip(y, -0.05, 1.05))
+        points = np.array(self.model.points)
+        self.scatter.setData(points[:, 0], points[:, 1])
+
+    # -- hit testing ---------------------------------------------------------------
+
+    def widget_point(self, x: float, y: float) -> QPointF:
+        """Scene position of curve coordinates (x, y) (tests aim mouse events with it)."""
+        return self.mapViewToScene(QPointF(x, y))
+
+    def _hit(self, scene_pos: QPointF) -> int | None:
+        best, best_d = None, GRAB_PX
+        for index, (x, y) in enumerate(self.model.points):
+            d = (self.widget_point(x, y) - scene_pos).manhattanLength()
+            if d < best_d:
+                best, best_d = index, d
+        return best
+
+    # -- gestures --------------------------------------------------------------------
+
+    def mouseClickEvent(self, ev) -> None:  # noqa: N802 - pyqtgraph override
+        if ev.button() != Qt.MouseButton.LeftButton:
+            ev.ignore()
+            return
+        ev.accept()
+        hit = self._hit(ev.scenePos())
+        if ev.double():
+            if hit is not None:
+                self.model.remove(hit)
+            return
+        if hit is None:
+            p = self.mapSceneToView(ev.scenePos())
+            self.model.add(p.x(), p.y())
+
+    def mouseDragEvent(self, ev, axis=None) -> None:  # noqa: N802 - pyqtgraph override
+        if ev.button() != Qt.MouseButton.LeftButton:
+            ev.ignore()
+            return
+        ev.accept()
+        p = self.mapSceneToView(ev.scenePos())
+        if ev.isStart():
+            hit = self._hit(ev.buttonDownScenePos())
+            if hit is None:
+                start = self.mapSceneToView(ev.buttonDownScenePos())
+                self.model.begin_new_drag(start.x(), start.y())
+            else:
+                self.model.begin_drag(hit)
+        if self.model.dragging is None:
+            return
+        self.model.drag_to(p.x(), p.y())
+        if ev.isFinish():
+            off = not (
+                -REMOVE_MARGIN <= p.x() <= 1 + REMOVE_MARGIN
+                and -REMOVE_MARGIN <= p.y() <= 1 + REMOVE_MARGIN
+            )
+            self.model.end_drag(remove=off)
+
+
+class CurveEditor(pg.PlotWidget):
+    """The plot widget: a :class:`CurveView` with small 0..1 axes."""
+
+    def __init__(self, model: CurvePoints, parent: QWidget | None = None) -> None:
+        self.view = CurveView(model)
+        super().__init__(parent, viewBox=self.view, background=theme.BASE)
+        item = self.getPlotItem()
+        item.hideButtons()
+        item.setMenuEnabled(False)
+        for side in ("left", "bottom"):
+            axis = item.getAxis(side)
+            axis.setPen(pg.mkPen(theme.BORDER))
+            axis.setTextPen(pg.mkPen(theme.DIM))
+            axis.setTicks([[(v, f"{v:g}") for v in (0.0, 0.25, 0.5, 0.75, 1.0)]])
+        self.setMinimumSize(360, 340)
+
+    def to_widget(self, x: float, y: float) -> QPointF:
+        """Viewport pixel of curve coordinates (x, y)."""
+        return QPointF(self.mapFromScene(self.view.widget_point(x, y)))
+
+
+class CurvesDialog(QDialog):
+    """Edit (or add) a curves filter layer of the session's document."""
+
+    def __init__(
+        self,
+        session: DocumentSession,
+        commands: LayerCommands,
+        flatten_ready: Callable[[], bool] = lambda: True,
+        parent: QWidget | None = None,
+    ) -> None:
+        super().__init__(parent)
+        self.setWindowTitle("Curves")
+        self.session = session
+        self.commands = commands
+        self.flatten_ready = flatten_ready
+        self.model = CurvePoints()
+        self.layer_id: int | None = None
+        self.start_steps = 0
+        self._sample: np.ndarray | None = None
+
+        layout = QVBoxLayout(self)
+        row = QHBoxLayout()
+        row.addWidget(QLabel("Parameter"))
+        self.parameter = QComboBox()
+        self.parameter.setToolTip("The curve acts on one parameter, or on all of them (linked)")
+        self.parameter.activated.connect(self._parameter_chosen)
+        row.addWidget(self.parameter, 1)
+        layout.addLayout(row)
+        self.editor = CurveEditor(self.model)
+        layout.addWidget(self.editor, 1)
+        self.readout = QLabel("")
+        self.readout.setObjectName("hint")
+        layout.addWidget(self.readout)
+        hint = QLabel("Click to add a point; drag it; drag it off or double-click to remove it.")
+        hint.setObjectName("hint")
+        layout.addWidget(hint)
+        buttons = QDialogButtonBox(
+            QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel
+        )
+        self.reset_button = QPushButton("Reset")
+        buttons.addButton(self.reset_button, QDialogButtonBox.ButtonRole.ResetRole)
+        self.reset_button.clicked.connect(self.reset)
+        buttons.accepted.connect(self.accept)
+        buttons.rejected.connect(self.reject)
+        self.buttons = buttons
+        layout.addWidget(buttons)
+
+        self.model.started.connect(session.seal)
+        self.model.changed.connect(self._points_changed)
+        self.model.finished.connect(session.seal)
+        session.historyChanged.connect(self._history_changed)
+
+    # -- opening ------------------------------------------------------------------------
+
+    def begin(self) -> bool:
+        """Bind to the active curves layer, or add one above the active layer; False if no doc."""
+        doc = self.session.doc
+        if doc is None:
+            return False
+        self.start_steps = self.session.steps
+        self._sample = self._read_sample()
+        layer = self.session.active_layer
+        if isinstance(layer, FilterLayer) and layer.op == "curves":
+            self.layer_id = layer.id
+        else:
+            self.layer_id = self.commands.add_filter_layer("curves")
+            if self.layer_id is None:
+                return False
+        self.session.seal()
+        self.parameter.clear()
+        self.parameter.addItem("All parameters (linked)", LINKED)
+        for param in doc.schema.parameters:
+            self.parameter.addItem(short_label(param.name), param.name)
+        self._sync_from_layer()
+        return True
+
+    def _read_sample(self) -> np.ndarray | None:
+        """A strided copy of the flatten (None while a heavy filter is still computing)."""
+        doc = self.session.doc
+        if doc is None or not self.flatten_ready():
+            return None
+        step = max(1, int(np.ceil(np.sqrt(doc.width * doc.height / HISTOGRAM_TEXELS))))
+        return np.ascontiguousarray(doc.flatten_edit(copy=False)[::step, ::step])
+
+    def layer(self) -> FilterLayer | None:
+        doc = self.session.doc
+        if doc is None or self.layer_id is None:
+            return None
+        try:
+            layer = doc.layer(self.layer_id)
+        except KeyError:
+            return None
+        return layer if isinstance(layer, FilterLayer) else None
+
+    def _sync_from_layer(self) -> None:
+        layer = self.layer()
+        if layer is None:
+            return
+        self.model.set_points(layer.op_params.get("points", IDENTITY_POINTS))
+        params = layer.parameters
+        chosen = params[0] if params is not None and len(params) == 1 else LINKED
+        self.parameter.setCurrentIndex(max(self.parameter.findData(chosen), 0))
+        self._update_histogram()
+        self.editor.view.redraw()
+        self._update_readout()
+
+    def _update_histogram(self) -> None:
+        doc = self.session.doc
+        name = self.parameter.currentData()
+        counts = None
+        if doc is not None and self._sample is not None:
+            counts = edit_histogram(
+                self._sample, doc.schema, None if not name else [name], HISTOGRAM_BINS
+            )
+        self.editor.view.set_histogram(counts)
+
+    # -- changes -----------------------------------------------------------------------
+
+    def _points_changed(self) -> None:
+        layer = self.layer()
+        if layer is not None:
+            params = {**layer.op_params, "points": self.model.points}
+            self.commands.set_property(layer.id, "op_params", params, merge=True)
+        self._update_readout()
+
+    def _update_readout(self) -> None:
+        index = self.model.dragging
+        if index is None:
+            self.readout.setText(f"{len(self.model)} points")
+            return
+        x, y = self.model.points[index]
+        self.readout.setText(f"Input {x:.3f}  →  Output {y:.3f}")
+
+    def _parameter_chosen(self, index: int) -> None:
+        layer = self.layer()
+        if layer is None:
+            return
+        name = self.parameter.itemData(index)
+        self.session.seal()
+        self.commands.set_property(layer.id, "parameters", None if not name else (name,))
+        self.session.seal()
+        self._update_histogram()
+
+    def _history_changed(self) -> None:
+        # an undo while the dialog is open: show what the layer holds now
+        if self.model.dragging is None and self.isVisible():
+            layer = self.layer()
+            if layer is not None and tuple(layer.op_params.get("points", ())) != self.model.points:
+                self.model.set_points(layer.op_params["points"])
+                self.editor.view.redraw()
+
+    def reset(self) -> None:
+        """Back to the straight line (one undo step)."""
+        self.model.started.emit()
+        self.model.set_points(IDENTITY_POINTS)
+        self.model.changed.emit()
+        self.model.finished.emit()
+
+    # -- closing ------------------------------------------------------------------------
+
+    def accept(self) -> None:
+        self.session.seal()
+        self._disconnect()
+        super().accept()
+
+    def reject(self) -> None:
+        """Cancel: undo everything the dialog did (the added layer included)."""
+        self._disconnect()
+        self.session.jump_to(self.start_steps)
+        super().reject()
+
+    def _disconnect(self) -> None:
+        try:
+            self.session.historyChanged.disconnect(self._history_changed)
+        except (RuntimeError, TypeError):
+            pass  # already disconnected
