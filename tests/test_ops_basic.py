@@ -241,3 +241,28 @@ def test_ops_never_modify_their_input() -> None:
     gaussian_blur(edit.data, sigma_px=2, schema=edit.schema, params="normal", mask=mask)
     composite(edit.data, edit.data[::-1].copy(), mask=mask)
     assert np.array_equal(edit.data, before)
+
+
+def test_per_channel_scale_of_a_frame_scales_one_axis_of_the_perturbation() -> None:
+    material = random_material()
+    edit = material.to_edit()
+    normal = edit.schema.edit_slices["normal"]
+    out = scale(edit.data, schema=edit.schema, params="normal", channel_factors=(0.0, 2.0, 1.0))
+    expected = edit.data.copy()
+    expected[..., normal] *= np.array([0.0, 2.0, 1.0], np.float32)
+    assert np.array_equal(out, expected)
+    # with a mask the per-channel result blends like any op
+    mask = np.zeros(edit.size, np.float32)
+    mask[:, :10] = 1.0
+    masked = scale(
+        edit.data, schema=edit.schema, params="normal", channel_factors=(0, 2, 1), mask=mask
+    )
+    assert np.array_equal(masked[:, :10], expected[:, :10])
+    assert np.array_equal(masked[:, 10:], edit.data[:, 10:])
+    with pytest.raises(OpError, match="has 2 values, the selection has 3"):
+        scale(edit.data, schema=edit.schema, params="normal", channel_factors=(1.0, 2.0))
+    spec = get_op("scale")
+    parsed = spec.parse_args(["channel_factors=0,2,1"])
+    assert spec.bind(parsed)["channel_factors"] == (0.0, 2.0, 1.0)
+    with pytest.raises(OpError, match="finite"):
+        spec.bind({"channel_factors": (1.0, float("nan"))})

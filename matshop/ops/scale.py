@@ -14,13 +14,14 @@ import numpy as np
 from ..material import Schema
 from ._kernels import scale_lerp
 from .selection import Selection
-from .spec import OpSpec, ParamSpec
+from .spec import OpError, OpSpec, ParamSpec
 
 
 def scale(
     edit: np.ndarray,
     *,
     factor: float = 1.0,
+    channel_factors: Sequence[float] | None = None,
     schema: Schema | None = None,
     params: Sequence[str] | str | None = None,
     mask: np.ndarray | None = None,
@@ -33,6 +34,10 @@ def scale(
         Edit-space values; never modified.
     factor : float
         The scale ``s``.
+    channel_factors : sequence of float, optional
+        One more factor per selected edit channel, in schema order (e.g.
+        ``(1, 2.5)`` on an Ashikhmin-Shirley lobe widens it along one axis
+        only; per-axis factors on a frame rotate and stretch perturbations).
     schema, params : which parameters to touch (all when ``params`` is None).
     mask : (H, W) ndarray in [0, 1], optional
         Blends the result with the input.
@@ -48,6 +53,15 @@ def scale(
     [0.5, 0.5]
     """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op="scale")
+    if channel_factors is not None:
+        if len(channel_factors) != selection.width:
+            raise OpError(
+                f"scale: channel_factors has {len(channel_factors)} values, the selection "
+                f"has {selection.width} edit channels"
+            )
+        block = selection.take(edit)
+        gains = np.float32(factor) * np.asarray(channel_factors, dtype=np.float32)
+        return selection.put(edit, np.multiply(block, gains, dtype=np.float32))
     if selection.mask is not None:
         # scale and blend in one pass: no full-size intermediate
         weights = selection.mask
@@ -67,6 +81,13 @@ SPECS = (
         params=(
             ParamSpec(
                 "factor", "float", 1.0, "the scale s", hard_range=(-100.0, 100.0), ui_range=(0, 2)
+            ),
+            ParamSpec(
+                "channel_factors",
+                "floats",
+                None,
+                "one more factor per selected edit channel, e.g. 1,2.5 (per-axis scaling)",
+                hard_range=(-100.0, 100.0),
             ),
         ),
         linear=True,

@@ -20,7 +20,9 @@ import numpy as np
 
 from ..errors import MatshopError
 
-ParamKind = Literal["float", "int", "bool", "choice", "points", "offset", "path", "region"]
+ParamKind = Literal[
+    "float", "int", "bool", "choice", "points", "offset", "path", "region", "floats"
+]
 
 
 class OpError(MatshopError):
@@ -50,6 +52,8 @@ class ParamSpec:
         try:
             if self.kind == "float":
                 return float(text)
+            if self.kind == "floats":  # "1,2.5,1"
+                return tuple(float(v) for v in text.split(","))
             if self.kind == "int":
                 return int(text)
             if self.kind == "bool":
@@ -76,6 +80,8 @@ class ParamSpec:
             return ";".join(f"{x:g},{y:g}" for x, y in value)
         if self.kind == "offset":
             return f"{value[0]},{value[1]}"
+        if self.kind == "floats" and value is not None:
+            return ",".join(f"{v:g}" for v in value)
         if self.kind == "region" and isinstance(value, np.ndarray):
             if value.dtype == bool:
                 return f"<mask of {int(value.sum())} texels>"
@@ -106,6 +112,9 @@ class ParamSpec:
         elif self.kind == "choice":
             if value not in self.choices:
                 raise OpError(f"{where}={value!r}: choose one of {', '.join(self.choices)}")
+        elif self.kind == "floats":
+            if value is not None:
+                value = _validate_floats(value, where, self.hard_range)
         elif self.kind == "points":
             value = _validate_points(value, where, self.hard_range)
         elif self.kind == "region":
@@ -117,6 +126,23 @@ class ParamSpec:
             except (TypeError, ValueError):
                 raise OpError(f"{where} must be two whole numbers dx,dy, got {value!r}") from None
         return value
+
+
+def _validate_floats(
+    value: Any, where: str, hard_range: tuple[float, float] | None
+) -> tuple[float, ...]:
+    try:
+        numbers = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        raise OpError(f"{where} must be numbers, got {value!r}") from None
+    if not numbers or not all(math.isfinite(v) for v in numbers):
+        raise OpError(f"{where} must be finite numbers, got {value!r}")
+    if hard_range is not None:
+        lo, hi = hard_range
+        outside = [v for v in numbers if not lo <= v <= hi]
+        if outside:
+            raise OpError(f"{where}: {outside[0]:g} is outside [{lo:g}, {hi:g}]")
+    return numbers
 
 
 def _parse_region(text: str, op: str, name: str) -> Any:
