@@ -21,12 +21,17 @@ from PySide6.QtCore import QObject, QTimer, Signal
 from ..errors import MatshopError
 from ..io.material_io import load_material
 from ..io.project import discard_recovery, find_recovery, load_project, save_project, write_recovery
+from ..io.textureset import detect_texture_set
 from ..layers import Document
 from .prompts import Prompts
 from .session import DocumentSession
 from .settings import AppSettings
 
 PROJECT_SUFFIX = ".matshop"
+
+
+class _Declined(Exception):
+    """The user cancelled opening after seeing the detected texture set."""
 
 
 class FileController(QObject):
@@ -56,11 +61,18 @@ class FileController(QObject):
 
     # -- opening -----------------------------------------------------------------
 
-    def open_path(self, path: str | Path) -> bool:
-        """Open a texture set (folder or map) or a ``.matshop`` project; False if not opened."""
+    def open_path(self, path: str | Path, *, review: bool = False) -> bool:
+        """Open a texture set (folder or map) or a ``.matshop`` project; False if not opened.
+
+        ``review``: show what was detected in a texture set first (the user may cancel);
+        the open dialogs ask for it, scripts and tests open directly.
+        """
         path = Path(path)
         try:
-            doc, project_path, state, restored = self._load(path)
+            doc, project_path, state, restored = self._load(path, review)
+        except _Declined:
+            self.message.emit(f"Did not open {path.name}")
+            return False
         except (MatshopError, OSError) as exc:
             self.prompts.error("Cannot open", _one_line(exc, path))
             return False
@@ -78,7 +90,7 @@ class FileController(QObject):
         )
         return True
 
-    def _load(self, path: Path) -> tuple[Document, Path | None, dict, bool]:
+    def _load(self, path: Path, review: bool = False) -> tuple[Document, Path | None, dict, bool]:
         """(document, project path, editor settings, restored from autosave)."""
         if path.suffix.lower() == PROJECT_SUFFIX:
             key = path
@@ -96,18 +108,20 @@ class FileController(QObject):
         if project_path is not None:
             project = load_project(path)
             return project.document, project_path, _editor(project.settings), False
+        if review and not self.prompts.confirm_texture_set(detect_texture_set(path)):
+            raise _Declined
         material, _report = load_material(path)
         return Document.from_material(material), None, {}, False
 
     def open_dialog(self) -> None:
         path = self.prompts.open_file(self._start_dir())
         if path is not None:
-            self.open_path(path)
+            self.open_path(path, review=True)
 
     def open_folder_dialog(self) -> None:
         path = self.prompts.open_folder(self._start_dir())
         if path is not None:
-            self.open_path(path)
+            self.open_path(path, review=True)
 
     def _start_dir(self) -> str:
         recent = self.settings.recent_files()

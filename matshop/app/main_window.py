@@ -29,6 +29,7 @@ from ..layers import Rect
 from ..tools.base import Tool
 from ..tools.painting import TOOL_CLASSES
 from ..tools.settings import BrushSettings, SwatchModel
+from ..tools.swatch_library import SwatchLibrary
 from ..tools.tool_panel import ToolPanel
 from ..viewport.canvas import TextureCanvas
 from ..viewport.display import display_mode, format_values
@@ -39,12 +40,14 @@ from .files import FileController
 from .history_panel import HistoryPanel
 from .layer_commands import LayerCommands
 from .layers_panel import LayersPanel
+from .lit_preview import LitPreview
 from .menus import build_actions, build_menus
 from .prompts import Prompts
 from .properties_panel import PropertiesPanel
 from .session import DocumentSession
 from .settings import AppSettings
 from .tool_host import EditorToolHost
+from .view3d import View3DDock
 
 
 class MainWindow(QMainWindow):
@@ -83,6 +86,15 @@ class MainWindow(QMainWindow):
         build_menus(self, self.actions_by_name)
         self._build_central()
         self._build_docks()
+        self.view3d = View3DDock(self, self.actions_by_name["view3d"])
+        self.lit_preview = LitPreview(
+            self.session,
+            self.canvas,
+            self.actions_by_name["lit"],
+            lambda: self.background.ready,
+            self._tool_busy,
+        )
+        self.lit_preview.message.connect(self.show_message)
         self._build_status()
 
         self.session.documentReplaced.connect(self._document_replaced)
@@ -179,7 +191,10 @@ class MainWindow(QMainWindow):
 
     def _build_docks(self) -> None:
         right, left = Qt.DockWidgetArea.RightDockWidgetArea, Qt.DockWidgetArea.LeftDockWidgetArea
-        self.tool_panel = ToolPanel(self.brush_settings, self.swatch_model)
+        self.swatch_library = SwatchLibrary(self.app_settings.swatch_library_path())
+        self.tool_panel = ToolPanel(
+            self.brush_settings, self.swatch_model, library=self.swatch_library
+        )
         self.layers_panel = LayersPanel(self.session, self.layer_commands, self.actions_by_name)
         self.properties_panel = PropertiesPanel(self.session, self.layer_commands)
         self.history_panel = HistoryPanel(self.session)
@@ -227,7 +242,7 @@ class MainWindow(QMainWindow):
         self.canvas.tool = tool
         self.actions_by_name[f"tool_{name}"].setChecked(True)
         self.tool_panel.show_tool(
-            tool.label, tool.tip, uses_brush=name != "eyedropper", uses_swatch=name == "brush"
+            tool.label, tool.tip, uses_brush=tool.uses_brush, uses_swatch=name == "brush"
         )
         self.canvas.update()
 
@@ -243,11 +258,11 @@ class MainWindow(QMainWindow):
 
     def undo(self) -> None:
         # never under a stroke in progress: its transaction owns the tiles it touches
-        if not (self.canvas.tool is not None and self.canvas.tool.busy):
+        if not self._tool_busy():
             self.session.undo()
 
     def redo(self) -> None:
-        if not (self.canvas.tool is not None and self.canvas.tool.busy):
+        if not self._tool_busy():
             self.session.redo()
 
     def open_curves(self) -> CurvesDialog | None:
@@ -399,7 +414,10 @@ class MainWindow(QMainWindow):
             self.show_message("Painting layer pixels")
 
     def _tool_busy(self) -> bool:
-        return self.canvas.tool is not None and self.canvas.tool.busy
+        view3d = getattr(self, "view3d", None)  # built after the background flatten
+        return (self.canvas.tool is not None and self.canvas.tool.busy) or (
+            view3d is not None and view3d.busy
+        )
 
     def _background_busy(self, busy: bool) -> None:
         self.canvas.set_held("Computing…" if busy else None)

@@ -123,6 +123,24 @@ def build_actions(w: MainWindow) -> dict[str, QAction]:
         ),
         "size_up": _action(w, "Bigger Brush", lambda: w.brush_settings.scale_radius(1.25), "]"),
         "about": _action(w, "&About matshop", w.show_about),
+        # toggled through the action's own signal (LitPreview listens to it)
+        "lit": _action(
+            w,
+            "&Lit Preview",
+            lambda: None,
+            "L",
+            tip="Show the material lit from a light (right-drag on the canvas moves it)",
+            checkable=True,
+        ),
+        # the 3D view dock shows and hides with this action's checked state
+        "view3d": _action(
+            w,
+            "&3D View",
+            lambda: None,
+            "F3",
+            checkable=True,
+            tip="Show the material on a mesh beside the canvas, and paint on it",
+        ),
     }
     filters = QMenu("New Filter Layer", w)
     for name, label in filter_ops():
@@ -175,6 +193,8 @@ def build_menus(w: MainWindow, a: dict[str, QAction]) -> None:
     view_menu = bar.addMenu("&View")
     view_menu.addActions([a["fit"], a["actual"], a["zoom_in"], a["zoom_out"]])
     view_menu.addSeparator()
+    view_menu.addAction(a["view3d"])
+    view_menu.addAction(a["lit"])
     w.parameter_menu = view_menu.addMenu("&Parameter")
     w.panels_menu = view_menu.addMenu("P&anels")
 

@@ -10,7 +10,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Literal
 
-from PySide6.QtWidgets import QFileDialog, QInputDialog, QMessageBox, QWidget
+from PySide6.QtWidgets import QDialog, QFileDialog, QInputDialog, QMessageBox, QWidget
+
+from ..io.textureset import TextureSet
 
 SaveAnswer = Literal["save", "discard", "cancel"]
 
@@ -58,6 +60,16 @@ class Prompts:
             buttons.Yes,
         )
         return answer == buttons.Yes
+
+    def confirm_texture_set(self, ts: TextureSet) -> bool:
+        """Show what was detected in a texture set; True opens it."""
+        from .textureset_dialog import TextureSetDialog  # only built when asked
+
+        dialog = TextureSetDialog(ts, self.parent)
+        try:
+            return dialog.exec() == QDialog.DialogCode.Accepted
+        finally:
+            dialog.deleteLater()
 
     def open_file(self, start: str = "") -> Path | None:
         path, _ = QFileDialog.getOpenFileName(self.parent, "Open", start, OPEN_FILTER)

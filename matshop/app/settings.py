@@ -57,6 +57,17 @@ class AppSettings:
         except (TypeError, ValueError):
             return DEFAULT_AUTOSAVE_S
 
+    def swatch_library_path(self) -> Path:
+        """The shared swatch library (JSON); ``swatch_library`` in the settings overrides it."""
+        configured = self.q.value("swatch_library")
+        if configured:
+            return Path(str(configured))
+        return self._data_dir() / "swatches.json"
+
+    def _data_dir(self) -> Path:
+        base = QStandardPaths.writableLocation(QStandardPaths.StandardLocation.AppDataLocation)
+        return Path(base or Path.home() / ".matshop")
+
     def recovery_dir(self) -> Path:
         """Where texture sets that were never saved as a project autosave."""
         configured = self.q.value("recovery_dir")

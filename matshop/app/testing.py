@@ -16,6 +16,7 @@ from PySide6.QtGui import QMouseEvent
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication, QWidget
 
+from ..io.textureset import TextureSet
 from .main_window import MainWindow
 from .prompts import Prompts, SaveAnswer
 
@@ -32,6 +33,7 @@ class ScriptedPrompts(Prompts):
         self.open_path: Path | None = None
         self.folder: Path | None = None
         self.preset: str | None = None
+        self.open_texture_set = True
 
     def error(self, title: str, text: str) -> None:
         self.asked.append(("error", text))
@@ -46,6 +48,10 @@ class ScriptedPrompts(Prompts):
     def ask_restore(self, recovery: Path) -> bool:
         self.asked.append(("restore", str(recovery)))
         return self.restore_answer
+
+    def confirm_texture_set(self, ts: TextureSet) -> bool:
+        self.asked.append(("texture_set", ts.name))
+        return self.open_texture_set
 
     def open_file(self, start: str = "") -> Path | None:
         self.asked.append(("open_file", start))
@@ -72,9 +78,10 @@ class ScriptedPrompts(Prompts):
 
 
 def make_window(folder: Path, prompts: Prompts | None = None) -> MainWindow:
-    """A window whose settings (and autosave folder) live in ``folder``."""
+    """A window whose settings (autosave folder, swatch library) live in ``folder``."""
     settings = QSettings(str(folder / "settings.ini"), QSettings.Format.IniFormat)
     settings.setValue("recovery_dir", str(folder / "recovery"))
+    settings.setValue("swatch_library", str(folder / "swatches.json"))
     window = MainWindow(settings=settings, prompts=prompts or ScriptedPrompts())
     if isinstance(window.prompts, ScriptedPrompts):
         window.prompts.parent = window

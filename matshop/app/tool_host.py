@@ -70,6 +70,9 @@ class EditorToolHost:
             self.message("Added a paint layer for the stroke")
         return layer_id
 
+    def active_layer(self) -> int | None:
+        return self.session.active_layer_id
+
     def stroke_target(self) -> str:
         """``"mask"`` while the active layer's mask thumbnail is selected, else ``"pixels"``."""
         return "mask" if self.session.mask_target else "pixels"

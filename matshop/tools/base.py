@@ -56,6 +56,10 @@ class ToolHost(Protocol):
         telling the user) if there is none."""
         ...
 
+    def active_layer(self) -> int | None:
+        """Id of the active layer (None: none)."""
+        ...
+
     def stroke_target(self) -> str:
         """``"pixels"`` (a paint layer's values) or ``"mask"`` (the active layer's mask)."""
         ...
@@ -84,6 +88,8 @@ class Tool:
     label = "Tool"
     shortcut = ""
     tip = ""
+    #: the brush sliders apply to this tool (the tool panel greys them out otherwise)
+    uses_brush = True
 
     def __init__(self, host: ToolHost) -> None:
         self.host = host
@@ -111,4 +117,8 @@ class Tool:
 
     def markers(self, x: float, y: float) -> list[tuple[float, float]]:
         """Texel points to mark while the cursor is at (x, y) (a clone source)."""
+        return []
+
+    def outlines(self) -> list[tuple[list[tuple[float, float]], bool]]:
+        """Polylines in texels to draw over the canvas, each with "closed" (a selection)."""
         return []

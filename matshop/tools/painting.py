@@ -15,6 +15,7 @@ import math
 
 from ..paint import StrokeSample, StrokeSession
 from .base import Tool, ToolEvent, ToolHost
+from .seamless_clone import SeamlessCloneTool
 
 #: What the brush paints into a mask: 0 hides the layer there, like painting black in
 #: a paint program's layer mask (a new mask shows everything); the eraser paints 1 - it.
@@ -175,6 +176,7 @@ class EyedropperTool(Tool):
     label = "Eyedropper"
     shortcut = "I"
     tip = "Pick the swatch (all parameters) from the flattened material"
+    uses_brush = False
 
     def __init__(self, host: ToolHost) -> None:
         super().__init__(host)
@@ -195,4 +197,10 @@ class EyedropperTool(Tool):
         self._down = False
 
 
-TOOL_CLASSES: tuple[type[Tool], ...] = (BrushTool, EraserTool, CloneTool, EyedropperTool)
+TOOL_CLASSES: tuple[type[Tool], ...] = (
+    BrushTool,
+    EraserTool,
+    CloneTool,
+    SeamlessCloneTool,
+    EyedropperTool,
+)

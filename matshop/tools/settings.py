@@ -156,6 +156,23 @@ class SwatchModel(QObject):
                 self.values[parameter] = tuple(value)
         self.changed.emit()
 
+    def apply(self, swatch: Swatch) -> None:
+        """Paint ``swatch`` (from the library): its values and only its parameters.
+
+        Parameters the document lacks are skipped; a swatch of none of them changes nothing.
+        """
+        fitting = {
+            p: v
+            for p, v in swatch.values.items()
+            if p in self.values and len(v) == len(self.values[p])
+        }
+        if not fitting:
+            return
+        self.values.update({p: tuple(v) for p, v in fitting.items()})
+        self.enabled = [p for p in self.values if p in fitting]
+        self.name = swatch.name
+        self.changed.emit()
+
     def to_json(self) -> dict[str, Any]:
         return {"values": {k: list(v) for k, v in self.values.items()}, "enabled": self.enabled}
 

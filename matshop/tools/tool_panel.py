@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 from PySide6.QtGui import QColor
@@ -26,6 +27,10 @@ from PySide6.QtWidgets import (
 from ..material import Parameter, Schema
 from .settings import BRUSH_SETTINGS, BrushSettings, SwatchModel, short_label
 from .widgets import ColorButton, FloatSlider, discard_widget
+
+if TYPE_CHECKING:
+    from .swatch_library import SwatchLibrary
+    from .swatch_library_panel import SwatchLibraryPanel
 
 ColorPicker = Callable[[QColor, QWidget], QColor | None]
 
@@ -200,10 +205,14 @@ class SwatchEditor(QGroupBox):
 
 
 class ToolPanel(QWidget):
-    """The tool's name and hint, the brush settings and the swatch."""
+    """The tool's name and hint, the brush settings, the swatch and the swatch library."""
 
     def __init__(
-        self, brush: BrushSettings, swatch: SwatchModel, parent: QWidget | None = None
+        self,
+        brush: BrushSettings,
+        swatch: SwatchModel,
+        parent: QWidget | None = None,
+        library: SwatchLibrary | None = None,
     ) -> None:
         super().__init__(parent)
         layout = QVBoxLayout(self)
@@ -220,6 +229,13 @@ class ToolPanel(QWidget):
         layout.addWidget(self.hint)
         layout.addWidget(self.brush_panel)
         layout.addWidget(self.swatch_editor)
+        self.library_panel: SwatchLibraryPanel | None = None
+        if library is not None:
+            # imported here: the library panel borrows this module's color conversion
+            from .swatch_library_panel import SwatchLibraryPanel
+
+            self.library_panel = SwatchLibraryPanel(library, swatch)
+            layout.addWidget(self.library_panel)
         layout.addStretch(1)
 
     def show_tool(self, label: str, tip: str, uses_brush: bool, uses_swatch: bool) -> None:
@@ -227,3 +243,5 @@ class ToolPanel(QWidget):
         self.hint.setText(tip)
         self.brush_panel.setEnabled(uses_brush)
         self.swatch_editor.setEnabled(uses_swatch)
+        if self.library_panel is not None:
+            self.library_panel.setEnabled(uses_swatch)

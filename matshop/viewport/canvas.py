@@ -20,6 +20,7 @@ from PySide6.QtGui import (
     QPainter,
     QPaintEvent,
     QPen,
+    QPolygonF,
     QTabletEvent,
     QWheelEvent,
 )
@@ -43,6 +44,8 @@ class TextureCanvas(QWidget):
     cursorMoved = Signal(float, float)
     #: zoom or pan changed
     viewChanged = Signal()
+    #: right-drag in the lit display: where the light should come from, (u, v) in [-1, 1]
+    lightDragged = Signal(float, float)
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -60,6 +63,11 @@ class TextureCanvas(QWidget):
         self._pan_from: QPointF | None = None
         self._space = False
         self._cursor: QPointF | None = None
+        self._had_outlines = False
+        #: the lit display: a rendered image drawn over the texture (None: not yet rendered)
+        self.lit = False
+        self.overlay: QImage | None = None
+        self._lighting = False
         #: while set, the flatten is being computed elsewhere: keep the last picture
         self._held: str | None = None
         self._timer = QTimer(self)
@@ -98,6 +106,19 @@ class TextureCanvas(QWidget):
         if self.cache is not None and name != self.cache.parameter:
             self.cache.parameter = name
             self._timer.start()
+
+    def set_overlay(self, image: QImage | None, lit: bool) -> None:
+        """Show ``image`` (a render of the whole texture) over the texture while ``lit``."""
+        self.lit = lit
+        self.overlay = image if lit else None
+        self.update()
+
+    def _light_at(self, pos: QPointF) -> None:
+        if self.doc is not None:
+            x, y = self.to_texel(pos)
+            u = 2.0 * x / self.doc.width - 1.0
+            v = 2.0 * y / self.doc.height - 1.0
+            self.lightDragged.emit(u, v)
 
     def _on_dirty(self, region: DirtyRegion) -> None:
         if self.cache is not None:
@@ -212,9 +233,16 @@ class TextureCanvas(QWidget):
             x0, y0 = view.to_widget(visible.x0, visible.y0)
             target = QRectF(x0, y0, visible.width * view.zoom, visible.height * view.zoom)
             painter.drawImage(target, self._image, source)
+        if self.lit and self.overlay is not None and visible is not None and not visible.empty:
+            # the render covers the whole texture: scale it onto the texture's outline
+            painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, True)
+            painter.drawImage(outline, self.overlay)
+        self._paint_outlines(painter)
         self._paint_cursor(painter)
         if self._held is not None:
             self._paint_note(painter, self._held)
+        elif self.lit:
+            self._paint_note(painter, "Lit" if self.overlay is not None else "Rendering…")
 
     def _paint_empty(self, painter: QPainter) -> None:
         painter.setPen(QColor(140, 143, 150))
@@ -240,6 +268,30 @@ class TextureCanvas(QWidget):
         painter.setPen(QColor(220, 221, 224))
         painter.setFont(font)
         painter.drawText(pill, Qt.AlignmentFlag.AlignCenter, text)
+
+    def _paint_outlines(self, painter: QPainter) -> None:
+        """The tool's selection outlines: dark under light dashes (marching-ants style)."""
+        if self.tool is None:
+            return
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        for points, closed in self.tool.outlines():
+            if len(points) < 2:
+                continue
+            polygon = QPolygonF([self.to_widget(x, y) for x, y in points])
+            draw = painter.drawPolygon if closed else painter.drawPolyline
+            painter.setPen(QPen(QColor(0, 0, 0, 200), 2.5))
+            draw(polygon)
+            dashes = QPen(QColor(255, 255, 255, 235), 1.2, Qt.PenStyle.DashLine)
+            painter.setPen(dashes)
+            draw(polygon)
+
+    def _tool_input(self) -> None:
+        """After the tool saw an event: repaint if it draws outlines (they may have changed)."""
+        outlines = bool(self.tool is not None and self.tool.outlines())
+        if outlines or self._had_outlines:
+            self.update()
+        self._had_outlines = outlines
 
     def _paint_cursor(self, painter: QPainter) -> None:
         if self._cursor is None or self.tool is None or self._pan_from is not None:
@@ -286,8 +338,12 @@ class TextureCanvas(QWidget):
         if self._starts_pan(event.button()):
             self._pan_from = event.position()
             self.setCursor(Qt.CursorShape.ClosedHandCursor)
+        elif event.button() == Qt.MouseButton.RightButton and self.lit:
+            self._lighting = True
+            self._light_at(event.position())
         elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
             self.tool.press(self._tool_event(event.position(), 1.0, event.modifiers()))
+            self._tool_input()
         event.accept()
 
     def mouseMoveEvent(self, event: QMouseEvent) -> None:  # noqa: N802 - Qt override
@@ -299,16 +355,22 @@ class TextureCanvas(QWidget):
             self.view.pan(delta.x(), delta.y())
             self._fitted = False
             self._view_changed()
+        elif self._lighting:
+            self._light_at(pos)
         elif self.tool is not None and self.tool.busy:
             self.tool.move(self._tool_event(pos, 1.0, event.modifiers()))
+            self._tool_input()
         event.accept()
 
     def mouseReleaseEvent(self, event: QMouseEvent) -> None:  # noqa: N802 - Qt override
         if self._pan_from is not None and self._starts_pan(event.button()):
             self._pan_from = None
             self.unsetCursor()
+        elif event.button() == Qt.MouseButton.RightButton and self._lighting:
+            self._lighting = False
         elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
             self.tool.release(self._tool_event(event.position(), 1.0, event.modifiers()))
+            self._tool_input()
         event.accept()
 
     def tabletEvent(self, event: QTabletEvent) -> None:  # noqa: N802 - Qt override
@@ -326,6 +388,7 @@ class TextureCanvas(QWidget):
             self.tool.move(tool_event)
         elif kind == QEvent.Type.TabletRelease:
             self.tool.release(tool_event)
+        self._tool_input()
         event.accept()
 
     def wheelEvent(self, event: QWheelEvent) -> None:  # noqa: N802 - Qt override
@@ -340,6 +403,7 @@ class TextureCanvas(QWidget):
             self.setCursor(Qt.CursorShape.OpenHandCursor)
         elif event.key() == Qt.Key.Key_Escape and self.tool is not None:
             self.tool.cancel()
+            self._tool_input()
         else:
             super().keyPressEvent(event)
 

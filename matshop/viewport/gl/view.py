@@ -150,8 +150,22 @@ class MaterialViewport(QOpenGLWidget):
             self._stale_content = False
 
     def initializeGL(self) -> None:  # noqa: N802 (Qt's name)
+        # moving the widget to another window (a dock floated or docked) gives it a
+        # new context: the GL objects die with the old one and are made again here
+        self.context().aboutToBeDestroyed.connect(self._context_lost)
         if self.renderer is None:
             self._initialize()
+
+    def _context_lost(self) -> None:
+        if self.renderer is not None:
+            self.makeCurrent()
+            self.renderer.delete()
+            if self._pick is not None:
+                self._pick.delete()
+            self.doneCurrent()
+        self.renderer = None
+        self._pick = None
+        self._stale_content = True
 
     def paintGL(self) -> None:  # noqa: N802
         self._apply()
