@@ -186,11 +186,11 @@ def test_the_mesh_choice_and_a_user_mesh(window, qtbot):
     target = GEOMETRY / "cube.obj"
     if not target.is_file():
         pytest.skip("the shared cube.obj is not present")
-    window.prompts.open_path = target
+    window.prompts.mesh_path = target
     assert dock.open_mesh()
     assert viewport._mesh.triangle_count == 12
     assert viewport.uv_at(viewport.width() / 2, viewport.height() / 2) is not None
-    window.prompts.open_path = SAMPLE / "sample_base_color.png"
+    window.prompts.mesh_path = SAMPLE / "sample_base_color.png"
     assert not dock.open_mesh()  # not a mesh: one line, the cube stays
     assert window.prompts.kinds()[-1] == "error"
     assert viewport._mesh.triangle_count == 12

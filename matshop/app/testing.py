@@ -31,6 +31,7 @@ class ScriptedPrompts(Prompts):
         self.restore_answer = False
         self.save_path: Path | None = None
         self.open_path: Path | None = None
+        self.mesh_path: Path | None = None
         self.folder: Path | None = None
         self.preset: str | None = None
         self.open_texture_set = True
@@ -56,6 +57,10 @@ class ScriptedPrompts(Prompts):
     def open_file(self, start: str = "") -> Path | None:
         self.asked.append(("open_file", start))
         return self.open_path
+
+    def open_mesh(self, start: str = "") -> Path | None:
+        self.asked.append(("open_mesh", start))
+        return self.mesh_path
 
     def open_folder(self, start: str = "") -> Path | None:
         self.asked.append(("open_folder", start))

@@ -32,7 +32,6 @@ from PySide6.QtGui import QAction
 from PySide6.QtWidgets import (
     QComboBox,
     QDockWidget,
-    QFileDialog,
     QLabel,
     QSizePolicy,
     QStackedWidget,
@@ -49,7 +48,6 @@ if TYPE_CHECKING:
 
 #: the shared meshes (../shared/data/geometry next to the repository), when present
 SHARED_GEOMETRY = Path(__file__).resolve().parents[3] / "shared" / "data" / "geometry"
-MESH_FILTER = "Meshes (*.obj *.gltf *.glb);;All files (*)"
 #: how far outside the mesh's bounding sphere the fitted view starts (1: touching)
 FIT_MARGIN = 1.3
 HINT = "Alt+drag orbit · right-drag pan · wheel zoom"
@@ -84,14 +82,7 @@ def gl_problem() -> str | None:
 
 def ask_mesh(prompts: Prompts, start: str = "") -> Path | None:
     """A mesh file from the user, through the window's prompts (tests script them)."""
-    ask = getattr(prompts, "open_mesh", None)
-    if ask is not None:
-        return ask(start)
-    if type(prompts).open_file is not Prompts.open_file:  # a scripted stand-in
-        return prompts.open_file(start)
-    # Prompts has no mesh dialog yet; the project-file filter would hide meshes
-    path, _ = QFileDialog.getOpenFileName(prompts.parent, "Open mesh", start, MESH_FILTER)
-    return Path(path) if path else None
+    return prompts.open_mesh(start)
 
 
 @functools.cache
