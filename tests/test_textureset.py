@@ -242,3 +242,35 @@ def test_real_chessboard_folder():
     assert ts.name == "chessboard"
     assert set(ts.maps) == {"base_color", "metallic", "normal", "roughness"}
     assert detect_texture_set(CHESSBOARD / "chessboard_normal.jpg").maps == ts.maps
+
+
+def test_a_user_corrected_set_loads_what_the_user_chose(tmp_path: Path) -> None:
+    import numpy as np
+
+    from matshop.io.images import write_image
+    from matshop.io.material_io import load_material
+    from matshop.io.textureset import check_texture_set, with_slot
+
+    rough = np.linspace(0, 1, 16, dtype=np.float32)[None, :, None].repeat(8, axis=0)
+    write_image(tmp_path / "rock_basecolor.png", np.full((8, 16, 3), 0.5, np.float32))
+    write_image(tmp_path / "rock_r.png", rough)  # a name no tag matches
+    ts = detect_texture_set(tmp_path)
+    assert "roughness" not in ts.maps and tmp_path / "rock_r.png" in ts.unrecognised
+    fixed = with_slot(ts, "roughness", tmp_path / "rock_r.png")
+    assert fixed.maps["roughness"] == tmp_path / "rock_r.png" and not fixed.unrecognised
+    assert "roughness" not in ts.maps  # the detected set is not changed
+    material, report = load_material(fixed)
+    assert np.allclose(material.maps["roughness"][..., 0], rough[..., 0], atol=1 / 255)
+    assert report.texture_set is fixed
+    dropped = with_slot(fixed, "base_color", None)
+    assert set(load_material(dropped)[0].maps) == {"roughness"}
+    # the same file in two slots, a missing file, an unknown slot: one line each
+    twice = with_slot(fixed, "metallic", tmp_path / "rock_r.png")
+    assert "roughness" not in twice.maps  # moving a file takes it out of its old slot
+    bad = {**fixed.maps, "metallic": tmp_path / "rock_r.png"}
+    with pytest.raises(MatshopError, match="used for both"):
+        check_texture_set(type(fixed)(fixed.name, fixed.folder, bad))
+    with pytest.raises(MatshopError, match="file not found"):
+        load_material(with_slot(fixed, "ao", tmp_path / "gone.png"))
+    with pytest.raises(MatshopError, match="unknown map slot 'sheen'"):
+        with_slot(fixed, "sheen", tmp_path / "rock_r.png")

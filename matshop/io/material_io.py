@@ -27,7 +27,7 @@ from ..spaces.frame import (
 )
 from .fileset import PendingFile, write_all
 from .images import ImageInfo, read_image, write_image
-from .textureset import PACKED_CHANNELS, TextureSet, detect_texture_set
+from .textureset import PACKED_CHANNELS, TextureSet, check_texture_set, detect_texture_set
 
 #: slots whose first channel is a scalar parameter
 _SCALAR_SLOTS: dict[str, str] = {
@@ -114,7 +114,7 @@ def _read_all(ts: TextureSet, max_pixels: int | None) -> tuple[dict, dict]:
 
 
 def load_material(
-    path: str | os.PathLike,
+    path: str | os.PathLike | TextureSet,
     *,
     spaces: dict[str, str] | None = None,
     normal_convention: str | None = None,
@@ -124,7 +124,8 @@ def load_material(
 
     Parameters
     ----------
-    path : folder or file of the set.
+    path : folder or file of the set, or a :class:`TextureSet` (e.g. detected,
+        then corrected by the user with :func:`~matshop.io.textureset.with_slot`).
     spaces : optional editing-space override per parameter (``{"roughness": "ggx_alpha"}``).
     normal_convention : ``"opengl"`` or ``"directx"``; default: the file-name hint
         (``_NormalGL``, ``_nor_dx``), else a guess from the normal map's curl.
@@ -134,7 +135,11 @@ def load_material(
     ------
     MatshopError : one line naming the file and the problem.
     """
-    ts = detect_texture_set(path)
+    if isinstance(path, TextureSet):
+        ts = path
+        check_texture_set(ts)
+    else:
+        ts = detect_texture_set(path)
     arrays, infos = _read_all(ts, max_pixels)
     report = LoadReport(ts, infos)
     maps: dict[str, np.ndarray] = {}

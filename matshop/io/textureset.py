@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import NamedTuple
 
@@ -147,6 +147,54 @@ class TextureSet:
     unrecognised: list[Path] = field(default_factory=list)
     #: recognised but not used, per slot (a DirectX normal when an OpenGL one exists)
     alternates: dict[str, list[Path]] = field(default_factory=dict)
+
+
+def known_slots() -> list[str]:
+    """Every slot a texture set may fill: single maps, then packed ones."""
+    return [*SLOTS, *PACKED_CHANNELS]
+
+
+def with_slot(ts: TextureSet, slot: str, file: str | os.PathLike[str] | None) -> TextureSet:
+    """A copy of ``ts`` with ``slot`` read from ``file`` (None: the slot is left empty).
+
+    For a user correcting what detection found. The file leaves any other
+    slot, the unrecognised list and the alternates, so it is read once.
+    """
+    if slot not in known_slots():
+        raise MatshopError(f"unknown map slot {slot!r} (known: {', '.join(known_slots())})")
+    maps = {k: v for k, v in ts.maps.items() if k != slot}
+    hints = {k: v for k, v in ts.hints.items() if k != slot}
+    unrecognised = list(ts.unrecognised)
+    alternates = {k: list(v) for k, v in ts.alternates.items()}
+    if file is not None:
+        path = Path(file)
+        maps = {k: v for k, v in maps.items() if v != path}
+        unrecognised = [f for f in unrecognised if f != path]
+        alternates = {k: [f for f in v if f != path] for k, v in alternates.items()}
+        maps[slot] = path
+    return replace(
+        ts,
+        maps=maps,
+        hints=hints,
+        unrecognised=unrecognised,
+        alternates={k: v for k, v in alternates.items() if v},
+    )
+
+
+def check_texture_set(ts: TextureSet) -> None:
+    """Refuse a (user-edited) set that cannot be loaded: one line naming the problem."""
+    if not ts.maps:
+        raise MatshopError("the texture set has no maps", ts.folder)
+    unknown = [slot for slot in ts.maps if slot not in known_slots()]
+    if unknown:
+        raise MatshopError(f"unknown map slot {unknown[0]!r}", ts.folder)
+    seen: dict[Path, str] = {}
+    for slot, path in ts.maps.items():
+        if path in seen:
+            raise MatshopError(f"used for both {seen[path]} and {slot}", path)
+        seen[path] = slot
+        if not path.is_file():
+            raise MatshopError("file not found", path)
 
 
 def _tokens(stem: str) -> list[_Token]:
