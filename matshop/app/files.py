@@ -21,7 +21,7 @@ from PySide6.QtCore import QObject, QTimer, Signal
 from ..errors import MatshopError
 from ..io.material_io import load_material
 from ..io.project import discard_recovery, find_recovery, load_project, save_project, write_recovery
-from ..io.textureset import detect_texture_set
+from ..io.textureset import TextureSet, detect_texture_set
 from ..layers import Document
 from .prompts import Prompts
 from .session import DocumentSession
@@ -108,9 +108,13 @@ class FileController(QObject):
         if project_path is not None:
             project = load_project(path)
             return project.document, project_path, _editor(project.settings), False
-        if review and not self.prompts.confirm_texture_set(detect_texture_set(path)):
-            raise _Declined
-        material, _report = load_material(path)
+        source: Path | TextureSet = path
+        if review:
+            reviewed = self.prompts.review_texture_set(detect_texture_set(path))
+            if reviewed is None:
+                raise _Declined
+            source = reviewed  # as the user corrected it
+        material, _report = load_material(source)
         return Document.from_material(material), None, {}, False
 
     def open_dialog(self) -> None:
@@ -224,17 +228,38 @@ class FileController(QObject):
     # -- export --------------------------------------------------------------------
 
     def export(self) -> None:
-        """Flatten and export with a preset of :mod:`matshop.export`; errors go to a message box."""
-        from ..export import builtin_preset_names, export_material
+        """Flatten and export with a preset of :mod:`matshop.export`; errors go to a message box.
+
+        Before writing, the files the preset will write are listed (those that
+        exist marked); existing files are replaced only when the user confirmed.
+        """
+        from ..export import builtin_preset_names, export_material, load_preset
+        from .export_dialog import export_name, plan_export
 
         if self.session.doc is None:
             return
         preset = self.prompts.choose_preset(list(builtin_preset_names()))
         folder = None if preset is None else self.prompts.export_folder(self._start_dir())
-        if folder is None:
+        if preset is None or folder is None:
             return
         try:
-            summary = export_material(self.session.doc.flatten_physical(), preset, folder)
+            material = self.session.doc.flatten_physical()
+            chosen = load_preset(preset)
+            plan = plan_export(material, chosen, folder)
+        except MatshopError as exc:
+            self.prompts.error("Cannot export", str(exc))
+            return
+        if not self.prompts.confirm_export([planned.line() for planned in plan]):
+            self.message.emit("Export cancelled")
+            return
+        try:
+            summary = export_material(
+                material,
+                chosen,
+                folder,
+                name=export_name(material),
+                force=any(planned.exists for planned in plan),  # the user saw them listed
+            )
         except MatshopError as exc:
             self.prompts.error("Cannot export", str(exc))
             return

@@ -62,13 +62,18 @@ class Prompts:
         )
         return answer == buttons.Yes
 
-    def confirm_texture_set(self, ts: TextureSet) -> bool:
-        """Show what was detected in a texture set; True opens it."""
+    def review_texture_set(self, ts: TextureSet) -> TextureSet | None:
+        """Show what was detected in a texture set and let the user correct it.
+
+        The (possibly corrected) set to open, or None when the user cancels.
+        """
         from .textureset_dialog import TextureSetDialog  # only built when asked
 
         dialog = TextureSetDialog(ts, self.parent)
         try:
-            return dialog.exec() == QDialog.DialogCode.Accepted
+            if dialog.exec() != QDialog.DialogCode.Accepted:
+                return None
+            return dialog.texture_set
         finally:
             dialog.deleteLater()
 
@@ -102,3 +107,13 @@ class Prompts:
     def export_folder(self, start: str = "") -> Path | None:
         path = QFileDialog.getExistingDirectory(self.parent, "Export into folder", start)
         return Path(path) if path else None
+
+    def confirm_export(self, lines: list[str]) -> bool:
+        """List the files an export will write (existing ones marked); True writes them."""
+        from .export_dialog import ExportDialog  # only built when asked
+
+        dialog = ExportDialog(lines, self.parent)
+        try:
+            return dialog.exec() == QDialog.DialogCode.Accepted
+        finally:
+            dialog.deleteLater()

@@ -8,7 +8,7 @@ carries no buttons, which sliders need).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from PySide6.QtCore import QEvent, QPoint, QPointF, QSettings, Qt
@@ -34,7 +34,12 @@ class ScriptedPrompts(Prompts):
         self.mesh_path: Path | None = None
         self.folder: Path | None = None
         self.preset: str | None = None
-        self.open_texture_set = True
+        #: the review of a texture set: returns the set to open (corrected) or None (cancel)
+        self.texture_set_fix: Callable[[TextureSet], TextureSet | None] = lambda ts: ts
+        #: the answer to the list of files an export will write
+        self.export_answer = True
+        #: the lines of the last export confirmation
+        self.export_lines: list[str] = []
 
     def error(self, title: str, text: str) -> None:
         self.asked.append(("error", text))
@@ -50,9 +55,9 @@ class ScriptedPrompts(Prompts):
         self.asked.append(("restore", str(recovery)))
         return self.restore_answer
 
-    def confirm_texture_set(self, ts: TextureSet) -> bool:
+    def review_texture_set(self, ts: TextureSet) -> TextureSet | None:
         self.asked.append(("texture_set", ts.name))
-        return self.open_texture_set
+        return self.texture_set_fix(ts)
 
     def open_file(self, start: str = "") -> Path | None:
         self.asked.append(("open_file", start))
@@ -77,6 +82,11 @@ class ScriptedPrompts(Prompts):
     def export_folder(self, start: str = "") -> Path | None:
         self.asked.append(("export_folder", start))
         return self.folder
+
+    def confirm_export(self, lines: list[str]) -> bool:
+        self.asked.append(("export", "\n".join(lines)))
+        self.export_lines = list(lines)
+        return self.export_answer
 
     def kinds(self) -> list[str]:
         return [kind for kind, _ in self.asked]

@@ -1,15 +1,16 @@
-"""What was detected in a texture set, shown before it is loaded.
+"""What was detected in a texture set, shown (and correctable) before it is loaded.
 
 One row per file the detection looked at: the maps it will load (which
 parameter slot, the file, its size and depth from the header, hints such as
 a normal map's convention), the alternates it will not use (a DirectX normal
 beside an OpenGL one) and the images whose names matched no slot.
 
-It is a confirmation view: ``load_material`` runs its own detection from a
-path and cannot take a corrected set yet, so a wrong assignment is fixed by
-renaming the file, as the note in the dialog says. (The engine hook that
-would let this dialog reassign or drop files: ``load_material`` accepting a
-``TextureSet`` in place of the path.)
+Every row has a *Load as* combo box ("not loaded" and every known slot), so
+the user can reassign a file detected in the wrong slot, load an unrecognised
+or alternate file, or drop one. Open builds the corrected set with
+:func:`~matshop.io.textureset.with_slot` and checks it
+(:func:`~matshop.io.textureset.check_texture_set`); a problem (the same slot
+chosen twice, no maps left) is shown as one line and the dialog stays open.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from PySide6.QtWidgets import (
+    QComboBox,
     QDialog,
     QDialogButtonBox,
     QLabel,
@@ -28,10 +30,12 @@ from PySide6.QtWidgets import (
 
 from ..errors import MatshopError
 from ..io.images import probe_image
-from ..io.textureset import SLOTS, TextureSet
+from ..io.textureset import SLOTS, TextureSet, check_texture_set, known_slots, with_slot
 
 #: Columns of the table.
-COLUMNS = ("Parameter", "File", "Image", "Notes")
+COLUMNS = ("Load as", "Detected", "File", "Image", "Notes")
+#: The combo box entry that leaves a file out.
+NOT_LOADED = "not loaded"
 
 
 def _header(path: Path) -> str:
@@ -58,11 +62,54 @@ def texture_set_rows(ts: TextureSet) -> list[tuple[str, str, str, str]]:
     return rows
 
 
+def _files(ts: TextureSet) -> list[tuple[Path, str | None]]:
+    """(file, slot it is loaded as or None) in the order of :func:`texture_set_rows`."""
+    files: list[tuple[Path, str | None]] = [(p, s) for s, p in sorted(ts.maps.items())]
+    files += [(p, None) for _, paths in sorted(ts.alternates.items()) for p in paths]
+    files += [(p, None) for p in ts.unrecognised]
+    return files
+
+
+def corrected_set(ts: TextureSet, choices: dict[Path, str | None]) -> TextureSet:
+    """``ts`` with each file loaded as ``choices[file]`` (None: not loaded).
+
+    Raises MatshopError (one line) when a slot is chosen twice or the result
+    cannot be loaded (no maps, a missing file).
+    """
+    chosen: dict[str, Path] = {}
+    for path, slot in choices.items():
+        if slot is None:
+            continue
+        if slot in chosen:
+            raise MatshopError(
+                f"{slot} is chosen for both {chosen[slot].name} and {path.name}; "
+                "pick one (set the other to 'not loaded')",
+                ts.folder,
+            )
+        chosen[slot] = path
+    original = {path: slot for slot, path in ts.maps.items()}
+    result = ts
+    for slot, path in ts.maps.items():  # empty the slots whose file goes elsewhere
+        if choices.get(path, slot) != slot:
+            result = with_slot(result, slot, None)
+    for path, slot in choices.items():
+        if slot is not None and original.get(path) != slot:
+            result = with_slot(result, slot, path)
+    check_texture_set(result)
+    return result
+
+
 class TextureSetDialog(QDialog):
-    """Lists a detected texture set; Open loads it, Cancel keeps the current document."""
+    """Lists a detected texture set; each file's slot can be changed.
+
+    Open accepts with the corrected set in :attr:`texture_set`; Cancel keeps
+    the current document.
+    """
 
     def __init__(self, ts: TextureSet, parent: QWidget | None = None) -> None:
         super().__init__(parent)
+        self.detected = ts
+        self.texture_set: TextureSet | None = None  #: the corrected set, once accepted
         self.setWindowTitle(f"Open texture set — {ts.name}")
         layout = QVBoxLayout(self)
         summary = QLabel(
@@ -74,24 +121,71 @@ class TextureSetDialog(QDialog):
         self.table = QTreeWidget()
         self.table.setRootIsDecorated(False)
         self.table.setHeaderLabels(list(COLUMNS))
-        for row in texture_set_rows(ts):
-            item = QTreeWidgetItem(list(row))
-            item.setToolTip(1, str(ts.folder / row[1]))
+        #: file -> its "Load as" combo box, in row order
+        self.combos: dict[Path, QComboBox] = {}
+        slots = known_slots()
+        for (path, slot), row in zip(_files(ts), texture_set_rows(ts), strict=True):
+            item = QTreeWidgetItem(["", *row])
+            item.setToolTip(2, str(path))
             self.table.addTopLevelItem(item)
+            combo = QComboBox()
+            combo.addItem(NOT_LOADED, None)
+            for known in slots:
+                combo.addItem(known, known)
+            combo.setCurrentIndex(0 if slot is None else slots.index(slot) + 1)
+            combo.setToolTip(f"Which parameter {path.name} is loaded as")
+            combo.currentIndexChanged.connect(self._changed)
+            self.table.setItemWidget(item, 0, combo)
+            self.combos[path] = combo
         for column in range(len(COLUMNS) - 1):
             self.table.resizeColumnToContents(column)
         layout.addWidget(self.table, 1)
         note = QLabel(
-            "A file in the wrong slot or missing? Rename it to end in the slot's name "
-            "(e.g. <i>_roughness</i>, <i>_normal_gl</i>) and open the set again."
+            "A file in the wrong slot or missing? Pick what it is under <i>Load as</i>; "
+            "<i>not loaded</i> leaves it out."
         )
         note.setObjectName("hint")
         note.setWordWrap(True)
         layout.addWidget(note)
+        self.error = QLabel()
+        self.error.setObjectName("error")
+        self.error.setStyleSheet("color: #e06c6c;")
+        self.error.setWordWrap(True)
+        self.error.hide()
+        layout.addWidget(self.error)
         buttons = QDialogButtonBox(
             QDialogButtonBox.StandardButton.Open | QDialogButtonBox.StandardButton.Cancel
         )
         buttons.accepted.connect(self.accept)
         buttons.rejected.connect(self.reject)
         layout.addWidget(buttons)
-        self.resize(760, 380)
+        self.resize(860, 400)
+
+    def choices(self) -> dict[Path, str | None]:
+        """file -> the slot chosen for it (None: not loaded)."""
+        return {path: combo.currentData() for path, combo in self.combos.items()}
+
+    def set_choice(self, file_name: str, slot: str | None) -> None:
+        """Choose ``slot`` (None: not loaded) for the file named ``file_name``."""
+        for path, combo in self.combos.items():
+            if path.name == file_name:
+                combo.setCurrentIndex(combo.findData(slot) if slot else 0)
+                return
+        raise KeyError(file_name)
+
+    def corrected(self) -> TextureSet:
+        """The set as the combo boxes say; MatshopError (one line) when it cannot load."""
+        return corrected_set(self.detected, self.choices())
+
+    def _changed(self) -> None:
+        self.error.hide()
+
+    def accept(self) -> None:
+        """Open: keep the dialog up with the one-line problem when the choice is not loadable."""
+        try:
+            self.texture_set = self.corrected()
+        except MatshopError as exc:
+            self.error.setText(str(exc))
+            self.error.show()
+            return
+        super().accept()

@@ -77,6 +77,11 @@ class ExportSummary:
         return lines
 
 
+def file_safe_name(name: str) -> str:
+    """The ``{material}`` of exported file names: ``name`` with unsafe characters replaced."""
+    return _SAFE_NAME.sub("_", name).strip("._") or "material"
+
+
 def describe_output(output: OutputSpec) -> str:
     """What an output file holds, e.g. ``R ao, G roughness, B metallic, A 1 - roughness``."""
     if output.channels is None:
@@ -135,7 +140,7 @@ def export_material(
     """
     if isinstance(preset, str):
         preset = load_preset(preset)
-    name = _SAFE_NAME.sub("_", name or material.name).strip("._") or "material"
+    name = file_safe_name(name or material.name)
     out = Path(out_dir)
     outputs = [o for o in preset.outputs if is_written(material, o)]
     missing = plan_missing(material, preset)

@@ -1,0 +1,109 @@
+"""The files File > Export will write, listed before anything is written.
+
+:func:`plan_export` works out, as :func:`~matshop.export.core.export_material`
+does, which outputs of a preset apply to the material (an optional output is
+skipped when the material lacks its parameters), the file name of each (from
+the preset's template and the material's name), what it holds, its format and
+bit depth, and whether a file of that name already exists in the folder (it
+would be replaced). :class:`ExportDialog` shows those lines with OK/Cancel.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from PySide6.QtWidgets import (
+    QDialog,
+    QDialogButtonBox,
+    QLabel,
+    QListWidget,
+    QListWidgetItem,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..export.core import describe_output, file_safe_name
+from ..export.pack import is_written
+from ..export.presets import Preset, load_preset
+from ..material import Material
+
+#: Ends the line of a file that exists and would be replaced.
+REPLACES = "exists, will be replaced"
+
+
+@dataclass(frozen=True)
+class PlannedFile:
+    """One file an export will write."""
+
+    name: str
+    contents: str  #: e.g. ``R ao, G roughness, B metallic`` or ``base_color (srgb)``
+    encoding: str  #: format and bit depth, e.g. ``png uint8``
+    exists: bool  #: a file of this name is in the folder already
+
+    def line(self) -> str:
+        """``T_BaseColor.png: base_color (srgb) [png uint8]`` (+ ``, exists, ...``)."""
+        mark = f" — {REPLACES}" if self.exists else ""
+        return f"{self.name}: {self.contents} [{self.encoding}]{mark}"
+
+
+def export_name(material: Material) -> str:
+    """The ``{material}`` of the file names (the material's name made file-safe)."""
+    return file_safe_name(material.name)
+
+
+def plan_export(material: Material, preset: Preset | str, folder: str | Path) -> list[PlannedFile]:
+    """The texture files ``export_material(material, preset, folder)`` writes, in order."""
+    if isinstance(preset, str):
+        preset = load_preset(preset)
+    folder = Path(folder)
+    name = export_name(material)
+    plan = []
+    for output in preset.outputs:
+        if not is_written(material, output):
+            continue
+        file_name = output.file_for(name, preset.name)
+        plan.append(
+            PlannedFile(
+                file_name,
+                describe_output(output),
+                f"{output.extension} {output.bit_depth}",
+                (folder / file_name).exists(),
+            )
+        )
+    return plan
+
+
+class ExportDialog(QDialog):
+    """The files to write, one line each; OK exports, Cancel writes nothing."""
+
+    def __init__(self, lines: list[str], parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setWindowTitle("Export")
+        layout = QVBoxLayout(self)
+        replaced = sum(line.endswith(REPLACES) for line in lines)
+        text = f"These {len(lines)} files will be written:"
+        if replaced:
+            verb = "exists" if replaced == 1 else "exist"
+            text += f" <b>{replaced} already {verb} and will be replaced.</b>"
+        summary = QLabel(text)
+        summary.setWordWrap(True)
+        layout.addWidget(summary)
+        self.list = QListWidget()
+        for line in lines:
+            item = QListWidgetItem(line)
+            if line.endswith(REPLACES):
+                font = item.font()
+                font.setBold(True)
+                item.setFont(font)
+            self.list.addItem(item)
+        layout.addWidget(self.list, 1)
+        buttons = QDialogButtonBox(
+            QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel
+        )
+        ok = buttons.button(QDialogButtonBox.StandardButton.Ok)
+        ok.setText("Replace and export" if replaced else "Export")
+        buttons.accepted.connect(self.accept)
+        buttons.rejected.connect(self.reject)
+        layout.addWidget(buttons)
+        self.resize(640, 320)

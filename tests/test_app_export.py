@@ -1,0 +1,130 @@
+"""File > Export lists the files it will write (existing ones marked) before writing."""
+
+from __future__ import annotations
+
+import os
+
+if not os.environ.get("DISPLAY"):
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("PySide6")
+pytest.importorskip("pytestqt")
+
+from PySide6.QtCore import QTimer  # noqa: E402
+from PySide6.QtWidgets import QApplication, QDialogButtonBox  # noqa: E402
+
+from matshop.app.export_dialog import REPLACES, ExportDialog  # noqa: E402
+from matshop.app.prompts import Prompts  # noqa: E402
+from matshop.app.testing import ScriptedPrompts, make_window  # noqa: E402
+from matshop.app.theme import apply_theme  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "resources" / "sample"
+SHOTS = ROOT / "test-output" / "screenshots"
+
+
+@pytest.fixture
+def window(qtbot, tmp_path):
+    apply_theme(QApplication.instance())
+    win = make_window(tmp_path)
+    qtbot.addWidget(win)
+    assert win.open_path(SAMPLE)
+    yield win
+    win.prompts.save_answer = "discard"
+
+
+def _export(window, preset: str, folder: Path, answer: bool = True) -> list[str]:
+    """Run File > Export; the names it listed, in order."""
+    prompts = window.prompts
+    prompts.preset, prompts.folder, prompts.export_answer = preset, folder, answer
+    prompts.export_lines = []
+    window.actions_by_name["export"].trigger()
+    assert prompts.kinds()[-1] == "export" or "error" in prompts.kinds()
+    return [line.split(": ", 1)[0] for line in prompts.export_lines]
+
+
+@pytest.mark.parametrize("preset", ["gltf", "raw", "unity_urp"])
+def test_listed_names_are_the_files_written(window, tmp_path, preset) -> None:
+    folder = tmp_path / f"out_{preset}"
+    listed = _export(window, preset, folder)
+    written = sorted(p.name for p in folder.iterdir())
+    assert listed and sorted(listed) == written
+    assert all(name.startswith("tiles_") for name in listed)  # the document's name
+    assert not any(REPLACES in line for line in window.prompts.export_lines)
+    assert "error" not in window.prompts.kinds()
+
+
+def test_optional_outputs_without_their_parameter_are_not_listed(window, tmp_path) -> None:
+    listed = _export(window, "raw", tmp_path / "raw")
+    lines = window.prompts.export_lines
+    assert "tiles_roughness.exr" in listed and "tiles_basecolor.png" in listed
+    assert not any("emissive" in name or "height" in name for name in listed)  # none in the set
+    assert any(line.endswith("[exr float]") for line in lines)  # format and bit depth
+    assert any(line.endswith("[png uint16]") for line in lines)
+
+
+def test_cancel_writes_nothing(window, tmp_path) -> None:
+    folder = tmp_path / "cancelled"
+    listed = _export(window, "gltf", folder, answer=False)
+    assert len(listed) == 3
+    assert not folder.exists() or not any(folder.iterdir())
+
+
+def test_existing_files_are_marked_and_replaced_only_when_confirmed(window, tmp_path) -> None:
+    folder = tmp_path / "again"
+    first = _export(window, "gltf", folder)
+    stale = folder / first[0]
+    stale.write_bytes(b"old")
+    (folder / first[1]).unlink()
+
+    listed = _export(window, "gltf", folder, answer=False)  # seen, declined: untouched
+    lines = window.prompts.export_lines
+    assert listed == first
+    assert [line.endswith(REPLACES) for line in lines] == [True, False, True]
+    assert stale.read_bytes() == b"old" and not (folder / first[1]).exists()
+
+    assert _export(window, "gltf", folder) == first  # confirmed: replaced
+    assert stale.read_bytes() != b"old" and (folder / first[1]).is_file()
+    assert "error" not in window.prompts.kinds()
+
+
+def test_the_dialog_lists_the_lines_and_names_the_replacement(qtbot, tmp_path) -> None:
+    apply_theme(QApplication.instance())
+    lines = [
+        "tiles_baseColor.png: base_color (srgb) [png uint8]",
+        f"tiles_normal.png: normal [png uint8] — {REPLACES}",
+    ]
+    dialog = ExportDialog(lines)
+    qtbot.addWidget(dialog)
+    dialog.show()
+    qtbot.waitExposed(dialog)
+    assert [dialog.list.item(i).text() for i in range(dialog.list.count())] == lines
+    ok = dialog.findChild(QDialogButtonBox).button(QDialogButtonBox.StandardButton.Ok)
+    assert ok.text() == "Replace and export"
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    assert dialog.grab().save(str(SHOTS / "27_export_files.png"))
+
+    # the real prompt: OK -> True, Cancel -> False
+    prompts = Prompts(None)  # type: ignore[arg-type]
+    for button, expected in (("accept", True), ("reject", False)):
+
+        def answer(button: str = button) -> None:
+            modal = QApplication.activeModalWidget()
+            if isinstance(modal, ExportDialog):
+                getattr(modal, button)()
+            else:
+                QTimer.singleShot(20, answer)
+
+        QTimer.singleShot(0, answer)
+        assert prompts.confirm_export(lines) is expected
+
+
+def test_scripted_prompts_record_the_export_question() -> None:
+    prompts = ScriptedPrompts()
+    prompts.export_answer = False
+    assert prompts.confirm_export(["a.png: x [png uint8]"]) is False
+    assert prompts.asked[-1] == ("export", "a.png: x [png uint8]")
