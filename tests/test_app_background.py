@@ -21,8 +21,7 @@ pytest.importorskip("pytestqt")
 from PySide6.QtCore import QTimer  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from matshop.app.testing import make_window  # noqa: E402
-from matshop.app.theme import apply_theme  # noqa: E402
+from matshop.app.testing import shown_window  # noqa: E402
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import AddLayer, Document, History  # noqa: E402
 
@@ -34,12 +33,7 @@ SHOTS = ROOT / "test-output" / "screenshots"
 
 @pytest.fixture
 def window(qtbot, tmp_path):
-    apply_theme(QApplication.instance())
-    win = make_window(tmp_path)
-    qtbot.addWidget(win)
-    win.resize(1560, 940)
-    win.show()
-    qtbot.waitExposed(win)
+    win = shown_window(qtbot, tmp_path)
     yield win
     win.background.wait()  # no worker outlives its window
     win.prompts.save_answer = "discard"

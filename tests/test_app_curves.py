@@ -21,8 +21,7 @@ from PySide6.QtWidgets import QApplication  # noqa: E402
 
 from matshop.app.curve_points import CurvePoints  # noqa: E402
 from matshop.app.histogram import edit_histogram  # noqa: E402
-from matshop.app.testing import click, drag, make_window  # noqa: E402
-from matshop.app.theme import apply_theme  # noqa: E402
+from matshop.app.testing import click, drag, shown_window  # noqa: E402
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import AddLayer, Document, FilterLayer, History  # noqa: E402
 from matshop.ops.curves import curve_lut  # noqa: E402
@@ -34,13 +33,7 @@ SHOTS = ROOT / "test-output" / "screenshots"
 
 @pytest.fixture
 def window(qtbot, tmp_path):
-    apply_theme(QApplication.instance())
-    win = make_window(tmp_path)
-    qtbot.addWidget(win)
-    win.resize(1560, 940)
-    win.show()
-    qtbot.waitExposed(win)
-    win.activateWindow()
+    win = shown_window(qtbot, tmp_path)
     yield win
     win.prompts.save_answer = "discard"
 

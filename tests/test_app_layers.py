@@ -20,8 +20,7 @@ from PySide6.QtCore import QItemSelectionModel, Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
 from matshop.app.layers_panel import _DEPTH_ROLE, _MASK_ROLE, LayerRowDelegate  # noqa: E402
-from matshop.app.testing import click, drag, make_window  # noqa: E402
-from matshop.app.theme import apply_theme  # noqa: E402
+from matshop.app.testing import click, drag, shown_window  # noqa: E402
 from matshop.layers import GroupLayer, PaintLayer  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -31,13 +30,7 @@ SHOTS = ROOT / "test-output" / "screenshots"
 
 @pytest.fixture
 def window(qtbot, tmp_path):
-    apply_theme(QApplication.instance())
-    win = make_window(tmp_path)
-    qtbot.addWidget(win)
-    win.resize(1560, 940)
-    win.show()
-    qtbot.waitExposed(win)
-    win.activateWindow()
+    win = shown_window(qtbot, tmp_path)
     yield win
     win.prompts.save_answer = "discard"
 

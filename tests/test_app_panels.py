@@ -21,8 +21,7 @@ pytest.importorskip("pytestqt")
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from matshop.app.testing import click, drag, make_window  # noqa: E402
-from matshop.app.theme import apply_theme  # noqa: E402
+from matshop.app.testing import click, drag, shown_window  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "resources" / "sample"
@@ -32,13 +31,7 @@ SHOTS = ROOT / "test-output" / "screenshots"
 
 @pytest.fixture
 def window(qtbot, tmp_path):
-    apply_theme(QApplication.instance())
-    win = make_window(tmp_path)
-    qtbot.addWidget(win)
-    win.resize(1560, 940)
-    win.show()
-    qtbot.waitExposed(win)
-    win.activateWindow()  # window shortcuts need the active window (under Xvfb too)
+    win = shown_window(qtbot, tmp_path)
     yield win
     win.prompts.save_answer = "discard"
 

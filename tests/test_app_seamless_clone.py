@@ -25,8 +25,7 @@ from PySide6.QtCore import QEvent, QPointF, Qt  # noqa: E402
 from PySide6.QtGui import QMouseEvent  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from matshop.app.testing import click, drag, make_window  # noqa: E402
-from matshop.app.theme import apply_theme  # noqa: E402
+from matshop.app.testing import click, drag, shown_window  # noqa: E402
 from matshop.layers import PaintLayer  # noqa: E402
 from matshop.ops.clone import CloneCoordinates  # noqa: E402
 
@@ -37,12 +36,7 @@ SHOTS = ROOT / "test-output" / "screenshots"
 
 @pytest.fixture
 def window(qtbot, tmp_path):
-    apply_theme(QApplication.instance())
-    win = make_window(tmp_path)
-    qtbot.addWidget(win)
-    win.resize(1560, 940)
-    win.show()
-    qtbot.waitExposed(win)
+    win = shown_window(qtbot, tmp_path)
     yield win
     win.prompts.save_answer = "discard"
 

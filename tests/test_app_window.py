@@ -20,8 +20,7 @@ pytest.importorskip("pytestqt")
 from PySide6.QtCore import QPointF, Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication, QMessageBox  # noqa: E402
 
-from matshop.app.testing import click, drag, make_window  # noqa: E402
-from matshop.app.theme import apply_theme  # noqa: E402
+from matshop.app.testing import click, drag, make_window, shown_window  # noqa: E402
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import AddLayer, Document, History, PaintLayer  # noqa: E402
 from matshop.layers.layer import FilterLayer  # noqa: E402
@@ -41,13 +40,7 @@ SWATCH = {
 
 @pytest.fixture
 def window(qtbot, tmp_path):
-    apply_theme(QApplication.instance())
-    win = make_window(tmp_path)
-    qtbot.addWidget(win)
-    win.resize(1560, 940)
-    win.show()
-    qtbot.waitExposed(win)
-    win.activateWindow()
+    win = shown_window(qtbot, tmp_path)
     yield win
     win.prompts.save_answer = "discard"  # teardown closes without asking a human
 

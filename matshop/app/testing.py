@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 from PySide6.QtCore import QEvent, QPoint, QPointF, QSettings, Qt
 from PySide6.QtGui import QMouseEvent
@@ -100,6 +101,25 @@ def make_window(folder: Path, prompts: Prompts | None = None) -> MainWindow:
     window = MainWindow(settings=settings, prompts=prompts or ScriptedPrompts())
     if isinstance(window.prompts, ScriptedPrompts):
         window.prompts.parent = window
+    return window
+
+
+def shown_window(qtbot: Any, folder: Path, *, size: tuple[int, int] = (1560, 940)) -> MainWindow:
+    """A themed window (settings in ``folder``) shown, exposed and active, closed after the test.
+
+    Window shortcuts need the active window, under Xvfb too.
+    """
+    from PySide6.QtWidgets import QApplication
+
+    from .theme import apply_theme
+
+    apply_theme(QApplication.instance())
+    window = make_window(folder)
+    qtbot.addWidget(window)
+    window.resize(*size)
+    window.show()
+    qtbot.waitExposed(window)
+    window.activateWindow()
     return window
 
 
