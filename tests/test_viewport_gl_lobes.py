@@ -14,7 +14,6 @@ Run under ``xvfb-run -a``; skips, saying why, only without an OpenGL 3.3 context
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -23,15 +22,15 @@ import pytest
 pytest.importorskip("PySide6.QtOpenGLWidgets", reason="PySide6 (extra 'gui') not installed")
 pytest.importorskip("OpenGL.GL", reason="PyOpenGL (extra 'gui') not installed")
 
-from matshop.viewport.gl.context import install_default_format  # noqa: E402
+from matshop.viewport.gl.context import (  # noqa: E402
+    install_default_format,
+    no_display_reason,
+)
 
 install_default_format()
 
-_PLATFORM = os.environ.get("QT_QPA_PLATFORM", "")
-if not _PLATFORM.startswith(("offscreen", "minimal")) and not (
-    os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-):
-    pytest.skip("no display for an OpenGL context: run under xvfb-run", allow_module_level=True)
+if no_display_reason() is not None:  # before pytest-qt starts Qt
+    pytest.skip(no_display_reason(), allow_module_level=True)
 
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import Document  # noqa: E402

@@ -9,6 +9,8 @@ and scripts that only need images.
 
 from __future__ import annotations
 
+import os
+
 from PySide6.QtGui import QOffscreenSurface, QOpenGLContext, QSurfaceFormat
 
 #: the oldest version whose core profile has everything the shaders use
@@ -27,6 +29,20 @@ def surface_format() -> QSurfaceFormat:
     fmt.setProfile(QSurfaceFormat.OpenGLContextProfile.CoreProfile)
     fmt.setDepthBufferSize(24)
     return fmt
+
+
+def no_display_reason() -> str | None:
+    """Why Qt would find no display for a GL context here (None: there is one to try).
+
+    Checked before Qt starts: without a display, creating the QApplication
+    aborts the whole process instead of raising.
+    """
+    platform = os.environ.get("QT_QPA_PLATFORM", "")
+    if platform.startswith(("offscreen", "minimal")):
+        return None  # Qt starts; context creation then fails cleanly
+    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
+        return None
+    return "no display for an OpenGL context: run under xvfb-run"
 
 
 def install_default_format() -> None:
