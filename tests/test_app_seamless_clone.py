@@ -76,7 +76,7 @@ def test_lasso_drag_release_pastes_seamlessly_in_one_undo_step(window, qtbot) ->
     doc = window.session.doc
     window.actions_by_name["tool_seamless_clone"].trigger()
     tool = window.tool
-    assert tool.name == "seamless_clone" and not window.tool_panel.brush_panel.isEnabled()
+    assert tool.name == "seamless_clone" and not window.tool_panel.brush_panel.isVisible()
     before = doc.flatten_edit()
     steps = window.session.steps
     canvas = window.canvas

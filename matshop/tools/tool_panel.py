@@ -241,7 +241,10 @@ class ToolPanel(QWidget):
     def show_tool(self, label: str, tip: str, uses_brush: bool, uses_swatch: bool) -> None:
         self.title.setText(label)
         self.hint.setText(tip)
+        # settings a tool ignores are hidden, not just greyed: in the dark theme a
+        # disabled slider still reads as a setting that matters
         self.brush_panel.setEnabled(uses_brush)
+        self.brush_panel.setVisible(uses_brush)
         self.swatch_editor.setEnabled(uses_swatch)
         if self.library_panel is not None:
             self.library_panel.setEnabled(uses_swatch)
