@@ -22,6 +22,11 @@ from .spec import BORDER, OpError, OpSpec, ParamSpec
 _TRUNCATE = 4.0
 
 
+#: From this kernel radius on, wrapping fixes each separable pass instead of
+#: bands of the 2D result (measured crossover, benchmarks/ops.py: sigma ~6 px)
+SEPARATE_PASSES_FROM_RADIUS = 24
+
+
 def kernel_radius_px(sigma_px: float) -> int:
     """Half-width of the kernel OpenCV uses for ``sigma_px`` on float images."""
     size = int(round(sigma_px * _TRUNCATE * 2 + 1)) | 1
@@ -61,6 +66,29 @@ def _wrapped_band(image: np.ndarray, sigma_px: float, radius: int, axis: int) ->
     return blurred[inner if axis == 0 else inner[::-1]]
 
 
+def _wrapped_pass(image: np.ndarray, kernel: np.ndarray, radius: int, axis: int) -> np.ndarray:
+    """One separable pass along ``axis`` (1: horizontal, 0: vertical) that wraps at the seam.
+
+    The whole image is filtered with any border (its interior is then
+    exact); only the ``radius`` texels on each side of the seam are redone,
+    from a thin strip of the ``2 * radius`` texels either side of it.
+    """
+    one = np.ones(1, dtype=np.float32)
+    kx, ky = (kernel, one) if axis == 1 else (one, kernel)
+    out = _as_cv(cv2.sepFilter2D(image, -1, kx, ky, borderType=cv2.BORDER_REFLECT_101))
+    n = image.shape[axis]
+    strip = np.take(image, np.r_[n - 2 * radius : n, 0 : 2 * radius], axis=axis)
+    fixed = _as_cv(cv2.sepFilter2D(strip, -1, kx, ky, borderType=cv2.BORDER_REFLECT_101))
+    if axis == 1:
+        out[:, -radius:], out[:, :radius] = (
+            fixed[:, radius : 2 * radius],
+            fixed[:, 2 * radius : 3 * radius],
+        )
+    else:
+        out[-radius:], out[:radius] = fixed[radius : 2 * radius], fixed[2 * radius : 3 * radius]
+    return out
+
+
 def gaussian(image: np.ndarray, sigma_px: float, border: str) -> np.ndarray:
     """Blur an (H, W, C) float32 array; ``border`` is ``"wrap"`` or ``"clamp"``."""
     if sigma_px == 0:
@@ -73,14 +101,20 @@ def gaussian(image: np.ndarray, sigma_px: float, border: str) -> np.ndarray:
         padded = pad(image, radius, border)
         blurred = _blur(padded, sigma_px, cv2.BORDER_ISOLATED)
         return np.ascontiguousarray(blurred[radius:-radius, radius:-radius])
-    # Wrap without padding the whole image: blur it once with any border (the
-    # interior is then exact), and redo only the bands within reach of the seams.
-    out = _blur(image, sigma_px, cv2.BORDER_REFLECT_101)
-    rows = _wrapped_band(image, sigma_px, radius, axis=0)
-    out[-radius:], out[:radius] = rows[:radius], rows[radius:]
-    cols = _wrapped_band(image, sigma_px, radius, axis=1)
-    out[:, -radius:], out[:, :radius] = cols[:, :radius], cols[:, radius:]
-    return out
+    # Wrap without padding the whole image: filter it with any border (the
+    # interior is then exact) and redo only what is within reach of the seams.
+    if radius < SEPARATE_PASSES_FROM_RADIUS:
+        # small kernels: OpenCV's 2D Gaussian is fastest; redo bands of its result
+        out = _blur(image, sigma_px, cv2.BORDER_REFLECT_101)
+        rows = _wrapped_band(image, sigma_px, radius, axis=0)
+        out[-radius:], out[:radius] = rows[:radius], rows[radius:]
+        cols = _wrapped_band(image, sigma_px, radius, axis=1)
+        out[:, -radius:], out[:, :radius] = cols[:, :radius], cols[:, radius:]
+        return out
+    # wide kernels: the bands would cost ~20 %; fix each 1D pass from a thin strip
+    kernel = cv2.getGaussianKernel(2 * radius + 1, sigma_px).astype(np.float32)
+    horizontal = _wrapped_pass(image, kernel, radius, axis=1)
+    return _wrapped_pass(horizontal, kernel, radius, axis=0)
 
 
 def gaussian_blur(
