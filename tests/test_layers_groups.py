@@ -167,3 +167,28 @@ def test_removing_a_hidden_group_releases_its_members() -> None:
     assert not np.array_equal(check(doc), hidden)
     history.undo()
     assert np.array_equal(check(doc), hidden)
+
+
+def test_undo_can_restore_membership_of_a_removed_group() -> None:
+    # found by the stateful test: join G1, remove G1, join G2, undo
+    from matshop.layers import RemoveLayer
+
+    doc, history = base_doc()
+    first = doc.new_group_layer("G1")
+    add(doc, history, first)
+    member = fill(doc, 0.5)
+    add(doc, history, member, 1)
+    history.push(SetProperty(member.id, "parent", first.id))
+    history.push(RemoveLayer(first.id))
+    alone = check(doc)
+    second = doc.new_group_layer("G2", opacity=0.0)
+    add(doc, history, second)
+    history.push(SetProperty(member.id, "parent", second.id))
+    assert not np.array_equal(check(doc), alone)
+    history.undo()  # back to the id of the removed G1: no group
+    assert member.parent == first.id
+    history.undo()
+    assert np.array_equal(check(doc), alone)
+    history.undo()  # G1 comes back, and with it the membership
+    assert doc.layers[-1].id == first.id and doc.in_group(member, first.id)
+    check(doc)

@@ -267,6 +267,11 @@ class Document:
         if parent is None:
             return
         group = next((other for other in self.layers if other.id == parent), None)
+        if group is None:
+            # an id no layer has any more: a group removed after the layer joined
+            # it. Members keep that id (so undoing the removal regroups them) and
+            # undo must be able to put it back; it reads as "no group".
+            return
         if not isinstance(group, GroupLayer):
             raise ValueError(f"parent {parent} is not a group layer of this document")
         if parent == layer.id or self.in_group(group, layer.id):
