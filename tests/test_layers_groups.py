@@ -192,3 +192,20 @@ def test_undo_can_restore_membership_of_a_removed_group() -> None:
     history.undo()  # G1 comes back, and with it the membership
     assert doc.layers[-1].id == first.id and doc.in_group(member, first.id)
     check(doc)
+
+
+def test_a_removed_groups_id_is_never_reused_after_a_reload(tmp_path) -> None:
+    from matshop.io.project import load_project, save_project
+    from matshop.layers import RemoveLayer
+
+    doc, history = base_doc()
+    member = fill(doc, 0.5)
+    add(doc, history, member)
+    group = doc.new_group_layer("G")
+    add(doc, history, group)
+    history.push(SetProperty(member.id, "parent", group.id))
+    history.push(RemoveLayer(group.id))
+    save_project(doc, tmp_path / "p.matshop")
+    loaded = load_project(tmp_path / "p.matshop").document
+    fresh = loaded.new_group_layer("new")
+    assert fresh.id > group.id  # else the new group would adopt the orphaned member

@@ -292,8 +292,9 @@ class Document:
         if not 0 <= index <= len(self.layers):
             raise IndexError(f"layer index {index} outside 0..{len(self.layers)}")
         self.layers.insert(index, layer)
-        # a layer made elsewhere (a loaded project) keeps its id; new ones follow it
-        self._next_id = max(self._next_id, layer.id + 1)
+        # a layer made elsewhere (a loaded project) keeps its id; new ones follow it,
+        # and its group's id too, so a removed group's id is never given out again
+        self._next_id = max(self._next_id, layer.id + 1, (layer.parent or 0) + 1)
         self._compositor.drop_checkpoint(layer.id)
         if self._regroups(layer):
             dirty = self._restructured()
