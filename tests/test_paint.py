@@ -364,3 +364,18 @@ def test_bad_swatch_libraries_are_one_line_errors(
     with pytest.raises(MatshopError, match=message) as info:
         load_swatches(path)
     assert "bad.json" in str(info.value) and "\n" not in str(info.value)
+
+
+def test_clone_stamp_samples_its_layer_and_below_not_the_filters_above() -> None:
+    # cloning into a layer under a "scale x2" filter: the filter applies once to
+    # the cloned texels, as to every other; sampling the full composite would
+    # apply it twice (and feed back on every further stroke)
+    doc, history, layer_id = make_doc()
+    history.push(AddLayer(doc.new_filter_layer("scale", op_params={"factor": 2.0})))
+    below = doc.composite_through(layer_id, doc.layout.bounds)
+    brush = Brush(radius_px=3, hardness=1)
+    for _ in range(3):  # repeated strokes stay put
+        paint_stroke(
+            doc, layer_id, [StrokeSample(60.5, 30.5)], brush, mode="clone", clone_offset=(-20, 9)
+        )
+    assert np.allclose(doc.flatten_edit()[30, 60], 2.0 * below[39, 40], atol=1e-5)

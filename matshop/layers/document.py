@@ -418,6 +418,17 @@ class Document:
         view = self._compositor.edit(rect)
         return _out(view, copy)
 
+    def composite_through(self, layer_id: int, rect: Rect) -> np.ndarray:
+        """Edit values of the layers from the bottom up to and including ``layer_id``.
+
+        What a clone stamp samples ("current and below"): the layers above,
+        filters among them, are not in it, so cloning into a layer under a
+        filter does not feed the filter's output back into its input. ``rect``
+        may reach past the image edges: the document wraps (tiling textures).
+        A new array.
+        """
+        return self._compositor.read(self.index_of(layer_id) + 1, rect, "wrap")
+
     def flatten(self, *, copy: bool = True) -> EditMaterial:
         """The flattened document as an :class:`EditMaterial`."""
         return EditMaterial(self.name, self.schema, self.flatten_edit(copy=copy))

@@ -61,14 +61,6 @@ def footprint_pieces(
             )
 
 
-def read_wrapped(doc: Document, rect: Rect) -> np.ndarray:
-    """The flattened edit values over ``rect``, which may reach past the edges (wrapped)."""
-    out = np.empty((rect.height, rect.width, doc.channels), dtype=np.float32)
-    for piece, where in footprint_pieces(rect.x0, rect.y0, rect.height, rect.width, doc, True):
-        out[where] = doc.flatten_edit(piece, copy=False)
-    return out
-
-
 class StrokeSession:
     """One stroke in progress on one layer: feed samples, then :meth:`end` it.
 
@@ -81,8 +73,10 @@ class StrokeSession:
     mode : {"paint", "erase", "clone"}
         ``paint`` composites ``swatch`` (pixels) or ``mask_value`` (mask);
         ``erase`` removes coverage (pixels) or paints ``1 - mask_value``
-        (mask: hides what painting reveals); ``clone`` stamps the flattened
-        document from ``clone_offset`` texels away (dx, dy) into the pixels.
+        (mask: hides what painting reveals); ``clone`` stamps the composite of
+        this layer and those below it ("current and below", so layers above,
+        filters among them, are not applied twice) from ``clone_offset``
+        texels away (dx, dy) into the pixels.
     swatch : Swatch, optional
         Needed to paint pixels. It must set every parameter the layer affects
         (other channels of the layer keep their values).
@@ -117,6 +111,7 @@ class StrokeSession:
         if not 0.0 <= mask_value <= 1.0:
             raise ValueError(f"mask value must lie in [0, 1], got {mask_value:g}")
         self.doc = doc
+        self._layer_id = layer_id
         self.brush = brush
         self.mode = mode
         self.target = target
@@ -180,7 +175,7 @@ class StrokeSession:
         stroke_alpha = block[..., -1]
         new_alpha = alpha + stroke_alpha * (np.float32(1.0) - alpha)
         if self.mode == "clone":
-            source = read_wrapped(self.doc, rect.translate(*self._offset))
+            source = self.doc.composite_through(self._layer_id, rect.translate(*self._offset))
             share = np.divide(alpha, new_alpha, out=np.zeros_like(alpha), where=new_alpha > 0)
             values = block[..., :-1]
             values += share[..., None] * (source - values)
