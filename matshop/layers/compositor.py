@@ -28,7 +28,7 @@ import numpy as np
 
 from .blend import blend, get_blend_mode, mean_of, weighted_mean
 from .cache import TileCache
-from .geometry import Rect, TileSet
+from .geometry import Rect, TileSet, periodic_runs
 from .layer import FillLayer, FilterLayer, GroupLayer, Layer, PaintLayer
 
 if TYPE_CHECKING:
@@ -306,8 +306,8 @@ class Compositor:
             )
             return np.pad(block, pad, mode="edge")
         out = np.empty((rect.height, rect.width, self.top.channels), dtype=np.float32)
-        for dy, sy, height in _periodic(rect.y0, rect.y1, bounds.y1):
-            for dx, sx, width in _periodic(rect.x0, rect.x1, bounds.x1):
+        for dy, sy, height in periodic_runs(rect.y0, rect.y1, bounds.y1):
+            for dx, sx, width in periodic_runs(rect.x0, rect.x1, bounds.x1):
                 part = Rect(sx, sy, sx + width, sy + height)
                 out[dy : dy + height, dx : dx + width] = self.composite(count, part)
         return out
@@ -344,15 +344,3 @@ class Compositor:
     def nbytes(self) -> int:
         caches = (self.top, self.physical, *self.checkpoints.values())
         return sum(cache.nbytes for cache in caches)
-
-
-def _periodic(lo: int, hi: int, size: int) -> list[tuple[int, int, int]]:
-    """Cut ``[lo, hi)`` into runs inside one period: (offset in the range, source, length)."""
-    runs = []
-    position = lo
-    while position < hi:
-        source = position % size
-        length = min(hi - position, size - source)
-        runs.append((position - lo, source, length))
-        position += length
-    return runs

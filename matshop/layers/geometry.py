@@ -289,3 +289,15 @@ def _reach(size: int, tile_size: int, margin: int, wrap: bool) -> np.ndarray:
         reach[i, np.unique(texels // tile_size)] = True
     reach.setflags(write=False)
     return reach
+
+
+def periodic_runs(lo: int, hi: int, size: int) -> list[tuple[int, int, int]]:
+    """Cut ``[lo, hi)`` into runs inside one period: (offset in the range, source, length)."""
+    runs = []
+    position = lo
+    while position < hi:
+        source = position % size
+        length = min(hi - position, size - source)
+        runs.append((position - lo, source, length))
+        position += length
+    return runs

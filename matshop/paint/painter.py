@@ -21,7 +21,7 @@ import numpy as np
 
 from ..layers.document import Document
 from ..layers.edits import PaintEdit
-from ..layers.geometry import Rect
+from ..layers.geometry import Rect, periodic_runs
 from ..layers.history import History
 from ..layers.layer import PaintLayer
 from ..layers.tiles import TileGrid
@@ -34,27 +34,20 @@ Mode = Literal["paint", "erase", "clone"]
 Target = Literal["pixels", "mask"]
 
 
-def _spans(start: int, length: int, size: int, wrap: bool) -> Iterator[tuple[int, int, int]]:
-    """Pieces of ``[start, start + length)`` on an axis of ``size``: (document start, offset, n)."""
-    if not wrap:
-        lo, hi = max(start, 0), min(start + length, size)
-        if hi > lo:
-            yield lo, lo - start, hi - lo
-        return
-    offset = 0
-    while offset < length:
-        position = (start + offset) % size
-        n = min(size - position, length - offset)
-        yield position, offset, n
-        offset += n
+def _spans(start: int, length: int, size: int, wrap: bool) -> list[tuple[int, int, int]]:
+    """Pieces of ``[start, start + length)`` on an axis of ``size``: (offset, document start, n)."""
+    if wrap:
+        return periodic_runs(start, start + length, size)
+    lo, hi = max(start, 0), min(start + length, size)
+    return [(lo - start, lo, hi - lo)] if hi > lo else []
 
 
 def footprint_pieces(
     x0: int, y0: int, height: int, width: int, doc: Document, wrap: bool
 ) -> Iterator[tuple[Rect, tuple[slice, slice]]]:
     """The document rectangles a ``height x width`` block at (x0, y0) lands on, with its slices."""
-    for doc_y, off_y, n_y in _spans(y0, height, doc.height, wrap):
-        for doc_x, off_x, n_x in _spans(x0, width, doc.width, wrap):
+    for off_y, doc_y, n_y in _spans(y0, height, doc.height, wrap):
+        for off_x, doc_x, n_x in _spans(x0, width, doc.width, wrap):
             yield (
                 Rect(doc_x, doc_y, doc_x + n_x, doc_y + n_y),
                 (slice(off_y, off_y + n_y), slice(off_x, off_x + n_x)),
