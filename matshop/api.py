@@ -94,11 +94,7 @@ class EditableMaterial:
             aligned = self.edit.data.copy()
         else:
             aligned = np.zeros((*material.size, self.edit.data.shape[-1]), np.float32)
-        shared = []
-        for name in params:
-            if name in material.schema and material.schema[name].space == self.schema[name].space:
-                aligned[..., self.schema.edit_slices[name]] = material.edit[name]
-                shared.append(name)
+        shared = material.edit.copy_into(self.schema, aligned, params)
         if not shared:
             raise MatshopError(
                 f"shares no selected parameter with the material (it has "

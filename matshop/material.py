@@ -227,6 +227,23 @@ class EditMaterial:
         """The edit channels of one parameter (a view: writes go into ``data``)."""
         return self.data[..., self.schema.edit_slices[self.schema[name].name]]
 
+    def copy_into(
+        self, schema: Schema, out: np.ndarray, params: Iterable[str] | None = None
+    ) -> list[str]:
+        """Write the parameters this material shares with ``schema`` into ``out``.
+
+        ``out`` is ``(H, W, schema.edit_width)`` laid out like ``schema``; a
+        parameter is shared when both have it in the same editing space.
+        ``params`` limits the candidates (default: all of ``schema``). Returns
+        the names written, in the order of ``params``.
+        """
+        shared = []
+        for name in schema.names if params is None else params:
+            if name in self.schema and self.schema[name].space == schema[name].space:
+                out[..., schema.edit_slices[name]] = self[name]
+                shared.append(name)
+        return shared
+
     def to_physical(self, progress: ProgressCallback | None = None) -> Material:
         """Convert back through every space's ``from_edit`` (clamping happens here)."""
         height, width = self.size

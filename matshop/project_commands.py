@@ -147,11 +147,7 @@ def _fill_from_set(doc: Document, source: Path) -> tuple[np.ndarray, list[str]]:
     edit = material.to_edit()
     data = np.empty((*doc.size, doc.channels), np.float32)
     data[...] = doc.background
-    shared = []
-    for param in doc.schema.parameters:
-        if param.name in edit.schema and edit.schema[param.name].space == param.space:
-            data[..., doc.schema.edit_slices[param.name]] = edit[param.name]
-            shared.append(param.name)
+    shared = edit.copy_into(doc.schema, data)
     if not shared:
         raise MatshopError(
             f"shares no parameter with the project (has {', '.join(edit.schema.names)})", source
