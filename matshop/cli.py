@@ -67,7 +67,7 @@ def _parse_spaces(pairs: Sequence[str]) -> dict[str, str]:
     return spaces
 
 
-def _add_load_options(parser: argparse.ArgumentParser) -> None:
+def add_load_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--space",
         action="append",
@@ -103,7 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
     info.add_argument(
         "path", type=Path, help="texture folder, one map of the set, or a .matshop project"
     )
-    _add_load_options(info)
+    add_load_options(info)
 
     convert = verbs.add_parser(
         "convert",
@@ -121,7 +121,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(128 bins in theta, written as a named-channel EXR)",
     )
     convert.add_argument("--force", action="store_true", help="overwrite existing files")
-    _add_load_options(convert)
+    add_load_options(convert)
 
     apply = verbs.add_parser(
         "apply",
@@ -149,7 +149,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     apply.add_argument("--mask", type=Path, help="grayscale image blending every op's result")
     apply.add_argument("--force", action="store_true", help="overwrite existing files")
-    _add_load_options(apply)
+    add_load_options(apply)
 
     verbs.add_parser(
         "ops",

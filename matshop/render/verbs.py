@@ -14,6 +14,8 @@ VERB_MODULE = "matshop.render.verbs"
 
 
 def add_parsers(verbs: Any) -> None:
+    from ..cli import add_load_options  # stdlib only; loaded already when verbs are built
+
     render = verbs.add_parser(
         "render",
         help="render a texture set on a sphere, a swatch or a mesh (PNG)",
@@ -68,15 +70,7 @@ def add_parsers(verbs: Any) -> None:
         "--tiles", type=float, help="texture repeats (sphere: around the equator; default 2)"
     )
     render.add_argument("--force", action="store_true", help="overwrite an existing image")
-    render.add_argument(
-        "--space", action="append", default=[], metavar="PARAM=SPACE", help=argparse.SUPPRESS
-    )
-    render.add_argument(
-        "--normal-convention",
-        choices=("opengl", "directx"),
-        help="green channel convention of the normal map (default: from the file name, "
-        "else guessed)",
-    )
+    add_load_options(render)
     render.set_defaults(verb_module=VERB_MODULE)
 
     figures = verbs.add_parser(
