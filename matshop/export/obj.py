@@ -11,11 +11,8 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
-
-from ..errors import MatshopError
 
 
 @dataclass(frozen=True)
@@ -54,45 +51,27 @@ def _drop_degenerate(indices: np.ndarray, positions: np.ndarray) -> np.ndarray:
 
 
 def read_obj(path: str | os.PathLike) -> Mesh:
-    """Read the polygons of an OBJ file (``v``, ``vt``, ``vn``, ``f``)."""
-    path = Path(path)
-    try:
-        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError as exc:
-        raise MatshopError(f"cannot read mesh: {exc.strerror or exc}", path) from None
-    pools: dict[str, list[list[float]]] = {"v": [], "vt": [], "vn": []}
-    corners: dict[tuple[int, int, int], int] = {}
-    order: list[tuple[int, int, int]] = []
-    triangles: list[int] = []
-    for number, line in enumerate(lines, 1):
-        parts = line.split()
-        if not parts or parts[0] not in ("v", "vt", "vn", "f"):
-            continue
-        try:
-            if parts[0] != "f":
-                pools[parts[0]].append([float(x) for x in parts[1:4]])
-                continue
-            face = [_corner(token, pools) for token in parts[1:]]
-        except (ValueError, IndexError):
-            raise MatshopError(f"line {number}: cannot parse {line.strip()!r}", path) from None
-        ids = []
-        for corner in face:
-            if corner not in corners:
-                corners[corner] = len(order)
-                order.append(corner)
-            ids.append(corners[corner])
-        for k in range(1, len(ids) - 1):  # fan: polygons are convex in practice
-            triangles += [ids[0], ids[k], ids[k + 1]]
-    if not triangles:
-        raise MatshopError("no faces in this OBJ file", path)
-    table = np.asarray(order, dtype=np.int64)
-    if (table[:, 1] < 0).any():
-        raise MatshopError("faces without texture coordinates (vt): cannot map textures", path)
-    positions = np.asarray(pools["v"], dtype=np.float32)[table[:, 0]]
-    uv = np.asarray(pools["vt"], dtype=np.float32)[table[:, 1], :2]
-    indices = np.asarray(triangles, dtype=np.uint32)
-    if (table[:, 2] >= 0).all():
-        normals = np.asarray(pools["vn"], dtype=np.float32)[table[:, 2]]
+    """The triangles of an OBJ file, one vertex per distinct (position, uv, normal) corner.
+
+    Parsing is :func:`matshop.render.mesh.load_obj`'s (one OBJ reader for the
+    renderer, the viewport and the exporter); vertices keep the order in which
+    the faces first use them.
+    """
+    from ..render.mesh import load_obj
+
+    obj = load_obj(path)
+    normal_ids = obj.tri_nrm if obj.tri_nrm is not None else np.full_like(obj.tri_pos, -1)
+    keys = np.stack([obj.tri_pos, obj.tri_uv, normal_ids], axis=-1).reshape(-1, 3)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first)  # first use, not sorted keys
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    table = keys[first[order]]
+    indices = rank[inverse.reshape(-1)].astype(np.uint32)
+    positions = obj.positions[table[:, 0]].astype(np.float32)
+    uv = obj.uvs[table[:, 1]].astype(np.float32)
+    if obj.normals is not None:
+        normals = obj.normals[table[:, 2]].astype(np.float32)
     else:
         normals = _smooth_normals(positions, indices)
     normals = normals / np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
@@ -103,23 +82,6 @@ def read_obj(path: str | os.PathLike) -> Mesh:
         uv.astype(np.float32),
         _drop_degenerate(indices, positions),
     )
-
-
-def _corner(token: str, pools: dict[str, list[list[float]]]) -> tuple[int, int, int]:
-    fields = (token.split("/") + ["", ""])[:3]
-    out = []
-    for text, pool in zip(fields, ("v", "vt", "vn"), strict=True):
-        if not text:
-            out.append(-1)
-            continue
-        index = int(text)
-        index = index - 1 if index > 0 else len(pools[pool]) + index
-        if not 0 <= index < len(pools[pool]):
-            raise IndexError(index)
-        out.append(index)
-    if out[0] < 0:
-        raise ValueError("a face corner needs a vertex index")
-    return out[0], out[1], out[2]
 
 
 def _smooth_normals(positions: np.ndarray, indices: np.ndarray) -> np.ndarray:
