@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from scipy.interpolate import PchipInterpolator
 
+from matshop.render import brdf
 from matshop.spaces import lobes
 from matshop.spaces._inverse_cdf import pchip, y_grid
 from matshop.spaces.base import EditRange
@@ -263,8 +264,10 @@ def test_scaling_sharpens_and_widens(s: float) -> None:
     for fraction in (0.5, 0.95):
         before, after = lobe_width(d, fraction), lobe_width(scaled, fraction)
         assert np.all(after < before) if s < 1 else np.all(after > before)
-        # scaling quantiles by s scales every angle by s; truth from the closed form
-        want = s * lobes.ggx_cdf_inv(fraction, alpha)
+        # scaling quantiles by s scales every angle by s; the mass pushed past pi/2
+        # leaves and the rest is renormalised; truth from the closed form
+        kept = np.minimum(lobes.ggx_cdf(np.pi / (2 * s), alpha), 1.0)
+        want = s * lobes.ggx_cdf_inv(fraction * kept, alpha)
         np.testing.assert_allclose(after, want, rtol=0.02, atol=0.3 * np.pi / 2 / N)
     assert np.all(np.abs(mass(scaled) - 1) < 1e-6)
 
@@ -353,8 +356,106 @@ def test_delta_like_edits() -> None:
     tail = 1.0 - COS.y[-1]
     d = COS.from_edit(np.zeros(N, np.float32))  # every quantile at 0: mass in bin 0
     assert d[0] * MEASURE[0] > 1.0 - 2 * tail
-    d = COS.from_edit(np.full(N, 10.0, np.float32))  # all past 90 deg: mass in the last bin
+    d = COS.from_edit(np.full(N, np.pi / 2, np.float32))  # all at 90 deg: the last bin
     assert d[-1] * MEASURE[-1] > 1.0 - 2 * tail
+    # all past 90 deg: the mass left the hemisphere, nothing is folded into the last
+    # bin; what remains (the ramp from the origin to the crossing) is uniform
+    d = COS.from_edit(np.full(N, 10.0, np.float32))
+    np.testing.assert_allclose(d, 1.0 / np.pi, rtol=1e-4)
+
+
+# --------------------------------------------------------------------------- widening
+# Truth for a GGX lobe widened by s: the quantiles scale by s, so its CDF is
+# c(theta / s), cut at pi/2 and renormalised by c(pi / (2 s)). Closed forms written
+# here (not matshop's lobes module): c(t) = tan^2 t / (a^2 + tan^2 t).
+
+
+def _ggx_cdf(theta: np.ndarray, alpha: float) -> np.ndarray:
+    t2 = np.tan(np.minimum(theta, np.pi / 2 - 1e-12)) ** 2
+    return t2 / (alpha * alpha + t2)
+
+
+def _widened_ggx_d(theta: np.ndarray, alpha: float, s: float) -> np.ndarray:
+    """d of the renormalised widened lobe: c_s'(theta) / (2 pi cos sin)."""
+    t = theta / s
+    tt = np.tan(t)
+    dc = 2 * alpha**2 * tt / np.cos(t) ** 2 / (alpha**2 + tt**2) ** 2 / s
+    norm = _ggx_cdf(np.pi / (2 * s), alpha)
+    return dc / norm / (2 * np.pi * np.cos(theta) * np.sin(theta))
+
+
+def _directional_albedo(d_of_theta_h, theta_i: float, n: int = 384) -> float:
+    """White furnace: ``integral D G / (4 cos_i cos_o) cos_o dw_o`` (F = 1), midpoint grid.
+
+    Brute force in numpy with Cook-Torrance G, independent of matshop's renderer.
+    """
+    th = (np.arange(n) + 0.5) * (np.pi / 2 / n)
+    ph = (np.arange(2 * n) + 0.5) * (np.pi / n)
+    t, p = np.meshgrid(th, ph, indexing="ij")
+    o = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
+    i = np.array([np.sin(theta_i), 0.0, np.cos(theta_i)])
+    h = o + i
+    h /= np.linalg.norm(h, axis=-1, keepdims=True)
+    oh = np.sum(o * h, -1)
+    g = np.clip(np.minimum(2 * h[..., 2] * o[..., 2], 2 * h[..., 2] * i[2]) / oh, 0, 1)
+    d = d_of_theta_h(np.arccos(np.clip(h[..., 2], 0.0, 1.0)))
+    f = d * g / (4 * i[2] * o[..., 2]) * o[..., 2] * np.sin(t)
+    return float(np.sum(f) * (np.pi / 2 / n) * (np.pi / n))
+
+
+def _rendered_albedo(table: np.ndarray, theta_i: float, n: int = 384) -> float:
+    """The same integral through the renderer's BRDF (family "sampled", ks = 1)."""
+    th = (np.arange(n) + 0.5) * (np.pi / 2 / n)
+    ph = (np.arange(2 * n) + 0.5) * (np.pi / n)
+    t, p = np.meshgrid(th, ph, indexing="ij")
+    o = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1).reshape(-1, 3)
+    i = np.array([np.sin(theta_i), 0.0, np.cos(theta_i)])
+    rho = brdf.evaluate(i, o, kd=np.zeros(3), ks=np.ones(3), family="sampled", params=table)
+    return float(np.sum(rho[:, 0] * o[:, 2] * np.sin(t.ravel())) * (np.pi / 2 / n) * (np.pi / n))
+
+
+@pytest.mark.parametrize("alpha", [0.2, 0.5, 1.0])
+def test_widening_renormalises_to_the_analytic_widened_lobe(alpha: float) -> None:
+    s = 2.0
+    d = (np.diff(_ggx_cdf(EDGES, alpha)) / MEASURE).astype(np.float32)
+    widened = COS.from_edit(s * COS.to_edit(d)).astype(np.float64)
+    # bin masses against the cut and renormalised c(theta / s)
+    truth = _ggx_cdf(np.minimum(EDGES / s, np.pi / (2 * s)), alpha) / _ggx_cdf(
+        np.pi / (2 * s), alpha
+    )
+    got_mass = widened * MEASURE
+    err = np.sum(np.abs(got_mass - np.diff(truth)))
+    # no spike: the old clip put 20% (alpha 0.5) / 50% (alpha 1) into the last bin
+    spike = got_mass[-1] / got_mass[-2]
+    # white furnace: the rendered albedo of the widened table vs the analytic lobe's
+    ratios = [
+        _rendered_albedo(widened, ti)
+        / _directional_albedo(lambda t: _widened_ggx_d(t, alpha, s), ti)
+        for ti in np.radians([0.0, 45.0, 70.0])
+    ]
+    print(
+        f"\nGGX {alpha} x{s}: mass L1 {100 * err:.3f}%  last/previous bin {spike:.2f}  "
+        f"albedo ratios {np.round(ratios, 5)}"
+    )
+    # measured: mass L1 0.16 / 0.45 / 0.25 %, albedo within 0.013% (old clip: -3.8 / -20 / -50 %)
+    assert err < 0.01
+    assert spike < 1.5
+    np.testing.assert_allclose(ratios, 1.0, atol=0.01)
+
+
+def test_widening_by_unsharp_overshoot_keeps_a_valid_lobe() -> None:
+    # an overshoot that pushes only the tail quantiles past pi/2: the tail leaves,
+    # the rest keeps its shape (bins below the cut scale by one common factor)
+    e = COS.to_edit(d_from_ggx(0.3)).astype(np.float64)
+    pushed = e.copy()
+    pushed[COS.y > 0.9] += 0.5
+    got = COS.from_edit(pushed.astype(np.float32)).astype(np.float64)
+    base = COS.from_edit(e.astype(np.float32)).astype(np.float64)
+    assert mass(got) == pytest.approx(1.0, abs=1e-6)
+    below = EDGES[1:] < np.interp(0.85, COS.y, e)
+    ratio = got[below] / base[below]
+    np.testing.assert_allclose(ratio, np.median(ratio), rtol=0.02)
+    assert got[-1] * MEASURE[-1] < 1.5 * got[-2] * MEASURE[-2]
 
 
 def test_y_grid_rejects_unknown() -> None:

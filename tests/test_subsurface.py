@@ -149,6 +149,34 @@ def test_scaling_radii_grows_mean_radius_keeps_albedo(s: float, length: float) -
     assert mean_radius(out) > mean_radius(SPACE.from_edit(e))
 
 
+@pytest.mark.parametrize("d", [0.08, 0.15])
+def test_widening_past_r_max_renormalises_and_keeps_albedo(d: float) -> None:
+    """Radii pushed past r_max are light leaving the tabulated range: dropped, the rest
+    renormalised to the same albedo, nothing folded into the last bin (the old clip put
+    up to 12.7% there: the bump at r = 1 in Fig. 6)."""
+
+    def burley(r: np.ndarray) -> np.ndarray:  # closed form written here
+        return 1.0 - 0.25 * np.exp(-r / d) - 0.75 * np.exp(-r / (3 * d))
+
+    s, albedo = 2.0, 0.6
+    c = burley(EDGES) / burley(EDGES[-1])
+    p = (albedo * np.diff(c) / MEASURE).astype(np.float32)
+    e = SPACE.to_edit(p)
+    e[SPACE.profile_channels] *= s
+    got = SPACE.from_edit(e).astype(np.float64)
+    truth = burley(EDGES / s) / burley(EDGES[-1] / s)
+    got_mass = got * MEASURE
+    err = np.sum(np.abs(got_mass / albedo - np.diff(truth)))
+    print(
+        f"\nBurley d={d} x{s}: left r_max {1 - burley(1 / s):.3f}, mass L1 {100 * err:.3f}%, "
+        f"last/previous bin {got_mass[-1] / got_mass[-2]:.2f} "
+        f"(truth {np.diff(truth)[-1] / np.diff(truth)[-2]:.2f})"
+    )
+    assert profile_albedo(got) == pytest.approx(albedo, rel=1e-6)
+    assert err < 0.01
+    assert got_mass[-1] < 1.5 * got_mass[-2]
+
+
 # measured mass L1 (% of albedo): Burley 0.26 / 0.22 / 0.07 / 0.02, exp 0.27 / 0.19 / 0.25 / 0.19
 @pytest.mark.parametrize(
     ("make", "scale"),

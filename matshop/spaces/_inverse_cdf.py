@@ -15,7 +15,9 @@ with scipy's end-point rule) through ``(cdf(edge), u(edge))``, evaluated at the
 which the bin measure is uniform (``COORDS``). Back: the PCHIP through
 ``(u(x_lo), 0), (u(q_j), y_j), (u(x_hi), 1)`` evaluated at the bin edges gives
 exact bin masses, hence bin-average densities (no division by ``sin theta`` or
-``r`` at a single point, so nothing blows up at the origin).
+``r`` at a single point, so nothing blows up at the origin). Quantiles past
+``x_hi`` (a lobe widened past pi/2, a profile past r_max) are mass leaving the
+domain: they are dropped and the CDF renormalised (``_domain_knots``).
 
 The per-row knots differ, so the merge walk and the PCHIP live in numba
 kernels over flattened ``(P, N)`` rows with per-row scratch buffers: a
@@ -35,6 +37,11 @@ Coord = Literal["x", "sin2", "square"]
 #: Blend weight of the strictly increasing ramp mixed into knot abscissae so
 #: flat CDF stretches (empty bins, repeated edit values) stay invertible.
 _KNOT_EPS = 1e-10
+#: Below this fraction of the mass left inside the domain a row is read as empty.
+_MIN_KEPT = 1e-9
+#: Quantiles within this fraction of the domain past its end are at the end
+#: (float32 rounds pi/2 up by 4e-8 rad).
+_EDGE_TOL = 1e-6
 
 
 def y_grid(n: int, kind: YGrid = "cosine") -> tuple[np.ndarray, np.ndarray]:
@@ -231,11 +238,60 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
                 out[p, j] = _x_of_u(uq[j], coord, lo, hi)
 
 
+@njit(cache=True, nogil=True)
+def _domain_knots(q_row, y, lo, hi, coord, us, ys):
+    """Knots ``(u, y)`` of one row's CDF inside ``[lo, hi]``; returns their count.
+
+    NaN repeats the previous quantile, a running maximum (from ``lo``) makes the
+    row monotone. Quantiles past ``hi`` are mass leaving the domain (a lobe
+    widened past pi/2, a profile past r_max): they are dropped, the level
+    ``y_cut`` where the quantile function crosses ``hi`` (linear in ``x``
+    between the last level inside and the first outside) ends the CDF, and the
+    levels are divided by it, so what remains is renormalised instead of being
+    folded into the last bin (MATH.md "Widening past the domain").
+    """
+    m = y.shape[0]
+    edge_tol = _EDGE_TOL * (hi - lo)
+    us[0] = _u_of_x(lo, coord)
+    ys[0] = 0.0
+    prev = lo
+    prev_y = 0.0
+    y_cut = 1.0
+    n = 1
+    for j in range(m):
+        v = np.float64(q_row[j])
+        if v != v:
+            v = prev
+        v = max(v, prev)
+        if v > hi and v <= hi + edge_tol:
+            v = hi  # float32 rounding of the edge itself (pi/2 stored as float32)
+        if v > hi:
+            t = (hi - prev) / (v - prev) if v < np.inf else 0.0
+            y_cut = prev_y + t * (y[j] - prev_y)
+            break
+        us[n] = _u_of_x(v, coord)
+        ys[n] = y[j]
+        n += 1
+        prev = v
+        prev_y = y[j]
+    us[n] = _u_of_x(hi, coord)
+    ys[n] = y_cut
+    n += 1
+    if not (y_cut > _MIN_KEPT):
+        # (almost) everything left the domain: what remains has no shape to keep,
+        # read it as the density constant over the measure
+        us[1] = us[n - 1]
+        ys[1] = 1.0
+        return 2
+    for k in range(n):
+        ys[k] /= y_cut
+    return n
+
+
 @njit(cache=True, parallel=True, nogil=True)
 def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
     rows, m = q.shape
     nb = weights.shape[0]
-    nk = m + 2
     lo = edges[0]
     hi = edges[nb]
     ue = np.empty(nb + 1)
@@ -243,26 +299,13 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
         ue[k] = _u_of_x(edges[k], coord)
     u_lo = ue[0]
     u_span = ue[nb] - ue[0]
-    ys = np.empty(nk)
-    ys[0] = 0.0
-    ys[nk - 1] = 1.0
-    for j in range(m):
-        ys[j + 1] = y[j]
     for block in prange(n_blocks):
-        us = np.empty(nk)
-        dk = np.empty(nk)
+        us = np.empty(m + 2)
+        ys = np.empty(m + 2)
+        dk = np.empty(m + 2)
         cdf = np.empty(nb + 1)
         for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
-            us[0] = ue[0]
-            prev = lo
-            for j in range(m):
-                v = np.float64(q[p, j])
-                if v != v:  # NaN keeps the previous quantile
-                    v = prev
-                v = min(max(v, prev), hi)  # running maximum, clipped to the domain
-                us[j + 1] = _u_of_x(v, coord)
-                prev = v
-            us[nk - 1] = ue[nb]
+            nk = _domain_knots(q[p], y, lo, hi, coord, us, ys)
             for k in range(nk):
                 ramp = u_lo + u_span * k / (nk - 1)
                 us[k] = (1.0 - _KNOT_EPS) * us[k] + _KNOT_EPS * ramp
@@ -353,10 +396,14 @@ def quantiles_to_pdf(
     """Inverse CDF at ``y`` -> normalised binned density (``sum(pdf * weights) == 1``).
 
     Any quantile vector is legal: NaN repeats the previous value, then a running
-    maximum and a clip to ``[edges[0], edges[-1]]`` make it a valid quantile
-    function. The CDF is the PCHIP through ``(u(edges[0]), 0), (u(q_j), y_j),
-    (u(edges[-1]), 1)`` with ``u`` chosen by ``coord``; each bin gets its exact
-    mass divided by its measure. ``out`` (P, N) float32 may be given.
+    maximum from ``edges[0]`` makes it a valid quantile function (values below
+    ``edges[0]`` sit at it). Quantiles past ``edges[-1]`` are mass that left the
+    domain: they are dropped and the rest renormalised (the CDF ends at the level
+    ``y_cut`` where the quantiles cross ``edges[-1]``, and is divided by it), never
+    folded into the last bin. The CDF is the PCHIP through ``(u(edges[0]), 0),
+    (u(q_j), y_j / y_cut), (u(edges[-1]), 1)`` with ``u`` chosen by ``coord``; each
+    bin gets its exact mass divided by its measure. ``out`` (P, N) float32 may be
+    given.
     """
     rows = np.asarray(quantiles)
     if rows.ndim != 2:
