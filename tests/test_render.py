@@ -213,6 +213,22 @@ def test_sampled_ggx_under_a_light_matches_analytic_ggx():
     assert np.abs(s.radiance - a.radiance).max() < 0.03 * peak
 
 
+@pytest.mark.parametrize("alpha", [0.01, 0.02, 0.2])
+def test_sampled_d_integrates_to_the_table_mass(alpha):
+    """The renderer reads a table as the sampled space does (constant per bin), so
+    ``integral D (h.n) dw`` is 1; interpolating between bin centres gave 1.050 at
+    alpha 0.01 and 1.023 at 0.02. Brute force: 2^21 midpoints in theta."""
+    n = 1 << 21
+    theta = (np.arange(n) + 0.5) * (np.pi / 2 / n)
+    edges = np.arange(129) * (np.pi / 2 / 128)
+    tan2 = np.tan(np.minimum(edges, np.pi / 2 - 1e-12)) ** 2
+    table = np.diff(tan2 / (alpha**2 + tan2)) / (np.pi * np.diff(np.sin(edges) ** 2))
+    d = brdf.distribution("sampled", 0.0, 0.0, np.cos(theta), table)
+    integral = 2 * np.pi * np.sum(d * np.cos(theta) * np.sin(theta)) * (np.pi / 2 / n)
+    print(f"sampled GGX alpha {alpha}: integral D (h.n) dw = {integral:.5f}")
+    assert integral == pytest.approx(1.0, abs=0.005)
+
+
 # ---------------------------------------------------------------------- the real set
 
 

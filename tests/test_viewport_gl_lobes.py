@@ -66,8 +66,9 @@ MEAN_TOLERANCE = 0.4
 P99_TOLERANCE = 3.0
 # Sampled lobes (chessboard at 256^2, read at level 0 by both): the GPU reads D from a
 # 16-level inverse-CDF lookup (shading_maps), the reference from the 128-bin table:
-#   GGX table: lookup 0.62 / 3 (directional light 0.50 / 2, environment 0.23 / 1);
-#   two-lobe table (70% GGX alpha + 30% GGX 4 alpha): lookup 0.37 / 1, while the old
+#   GGX table: lookup 0.59 / 3 (both read D as mass-exact: the reference per bin, the
+#   GPU linear within each of its 17 segments);
+#   two-lobe table (70% GGX alpha + 30% GGX 4 alpha): lookup 0.53 / 2, while the old
 #   stand-in, the GGX lobe of the same median angle, measures 2.1 / 10.
 SAMPLED_MEAN_TOLERANCE = 0.8
 SAMPLED_P99_TOLERANCE = 4.0
@@ -196,3 +197,68 @@ def test_sampled_lobes_from_their_inverse_cdf(viewport, small, family):
     if family == "sampled_two_lobe":
         # a shape no analytic lobe has: its median-matched GGX is the wrong lobe
         assert median["mean"] > SAMPLED_MEAN_TOLERANCE or median["p99"] > SAMPLED_P99_TOLERANCE
+
+
+_PROBE = """
+uniform float u_nodes[16];
+uniform float u_power;
+uniform vec2 u_size;
+out vec4 frag_color;
+void main() {
+    g_x[0] = 0.0;
+    for (int k = 0; k < 16; ++k) g_x[k + 1] = clamp(max(u_nodes[k], g_x[k]), 0.0, 1.0);
+    g_x[17] = 1.0;
+    vec2 p = floor(gl_FragCoord.xy);
+    float t = (p.y * u_size.x + p.x + 0.5) / (u_size.x * u_size.y);
+    float x = pow(t, u_power);
+    frag_color = vec4(sampled_d(x), x, 0.0, 1.0);
+}
+"""
+
+
+@pytest.mark.parametrize("alpha", [0.01, 0.05])
+def test_shader_sampled_d_integrates_to_one(gl_context, alpha):
+    """The shader's own ``sampled_d`` (compiled alone in a probe) over x = sin^2 theta:
+    ``integral D (h.n) dw = pi integral_0^1 D dx`` by brute force on 2^20 points
+    (``x = t^6``, dense where narrow lobes live). The lookup is the real path: the
+    space's edit value -> ``shading_maps.quantile_table`` -> half floats (RGBA16F)."""
+    from OpenGL import GL
+
+    from matshop.spaces import get_space
+    from matshop.viewport.gl import shaders
+    from matshop.viewport.gl.fbo import Framebuffer
+    from matshop.viewport.gl.shading_maps import quantile_table
+
+    space = get_space("sampled")
+    edges = space.edges
+    tan2 = np.tan(np.minimum(edges, np.pi / 2 - 1e-12)) ** 2
+    table = np.diff(tan2 / (alpha**2 + tan2)) / space.measure
+    nodes = quantile_table(space.to_edit(table.astype(np.float32))[None, None], space.y)[0, 0]
+    nodes = nodes.astype(np.float16).astype(np.float32)
+    size, power = 1024, 6.0
+    program = shaders.Program(
+        shaders.BACKGROUND_VERTEX,
+        shaders.VERSION + shaders._COMMON + shaders.SAMPLED_LOBE + _PROBE,
+    )
+    fbo = Framebuffer(size, size, (GL.GL_RGBA32F,))
+    vao = GL.glGenVertexArrays(1)
+    try:
+        fbo.bind()
+        program.use()
+        GL.glUniform1fv(program.location("u_nodes"), 16, nodes)
+        program.set("u_power", power)
+        program.set("u_size", np.array([size, size], np.float32))
+        GL.glDisable(GL.GL_DEPTH_TEST)
+        GL.glBindVertexArray(vao)
+        GL.glDrawArrays(GL.GL_TRIANGLES, 0, 3)
+        out = fbo.read(flip=False).reshape(-1, 4)
+    finally:
+        GL.glDeleteVertexArrays(1, [vao])
+        fbo.delete()
+        program.delete()
+    t = (np.arange(size * size) + 0.5) / (size * size)
+    np.testing.assert_allclose(out[:, 1], t**power, rtol=1e-4, atol=1e-30)
+    dx_dt = power * t ** (power - 1)
+    integral = np.pi * np.sum(out[:, 0].astype(np.float64) * dx_dt) / t.size
+    print(f"shader sampled D, GGX alpha {alpha}: integral D (h.n) dw = {integral:.5f}")
+    assert integral == pytest.approx(1.0, abs=0.005)

@@ -18,7 +18,7 @@ Lobe parameters per family (shapes broadcast against the directions):
 - ``"phong"``: exponent ``n``;
 - ``"ashikhmin_shirley"``: ``(nu, nv)`` exponents along the tangent and bitangent;
 - ``"sampled"``: a tabulated ``d`` with ``N`` bins uniform in ``theta`` on the last
-  axis, read with linear interpolation between bin centres.
+  axis, constant over each bin (the sampled space's model).
 """
 
 from __future__ import annotations
@@ -85,21 +85,18 @@ def ashikhmin_shirley_d(
 def sampled_d(theta: np.ndarray, table: np.ndarray) -> np.ndarray:
     """A tabulated lobe (``N`` bins in ``[0, pi/2]`` on the last axis of ``table``) at ``theta``.
 
-    Linear interpolation between bin centres (constant beyond the first and
-    last centre): smoother highlights than reading the bins as steps, and the
-    same lookup a GPU's linear texture filter does.
+    Each bin's value holds over the whole bin, the sampled space's own reading
+    of the table (:mod:`matshop.spaces.sampled`), so ``integral D (h.n) dw`` is
+    exactly the table's mass. (Linear interpolation between bin centres looked
+    smoother but added mass to narrow lobes: 1.050 at GGX alpha 0.01.)
     """
     table = np.asarray(table)
     n = table.shape[-1]
-    x = np.clip(np.asarray(theta) * (n / HALF_PI) - 0.5, 0.0, n - 1.0)
-    k = np.minimum(x.astype(np.intp), n - 2)
-    f = x - k
-    lead = np.broadcast_shapes(table.shape[:-1], np.shape(x))
+    k = np.clip((np.asarray(theta) * (n / HALF_PI)).astype(np.intp), 0, n - 1)
+    lead = np.broadcast_shapes(table.shape[:-1], np.shape(k))
     tab = np.broadcast_to(table, (*lead, n))
     k = np.broadcast_to(k, lead)[..., None]
-    lo = np.take_along_axis(tab, k, axis=-1)[..., 0]
-    hi = np.take_along_axis(tab, k + 1, axis=-1)[..., 0]
-    return lo + f * (hi - lo)
+    return np.take_along_axis(tab, k, axis=-1)[..., 0]
 
 
 def schlick_fresnel(ks: np.ndarray, cos_ih: np.ndarray) -> np.ndarray:

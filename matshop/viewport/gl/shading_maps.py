@@ -26,10 +26,12 @@ reference's own interpolation, :func:`matshop.render.sampling.sample_quantiles`,
 computes them). The table holds ``x = sin^2 theta`` rather than ``theta``:
 the projected-solid-angle measure is ``cos sin dtheta dphi = dx dphi / 2``, so
 a CDF piecewise linear in ``x`` has the *finite* piecewise-constant density
-``D = (dy / dx) / pi``, which the shader uses for the directional lights'
-``D(h)`` and for the samples' pdf. That is the approximation: D is read from
-17 segments of the inverse CDF instead of the reference's 128-bin table
-(``tests/test_viewport_gl_lobes.py`` measures it). ``set_lobe("ggx")`` shows
+``D = (dy / dx) / pi``, which the shader uses for the samples' pdf and, made
+linear inside each segment without changing its mass, for the directional
+lights' ``D(h)`` (so ``integral D (h.n) dw = 1`` as for the space's bins).
+That is the approximation: D is read from 17 segments of the inverse CDF
+instead of the reference's 128-bin table (``tests/test_viewport_gl_lobes.py``
+measures it). ``set_lobe("ggx")`` shows
 a sampled lobe as the GGX lobe with its median angle (``alpha = tan c^-1(1/2)``).
 
 ``set_lobe`` overrides convert analytic parameters by the usual equivalences
