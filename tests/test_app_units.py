@@ -33,16 +33,28 @@ def sample_material():
     return material
 
 
-def test_color_is_shown_srgb_encoded_and_normals_as_half_plus_half() -> None:
-    schema = Schema.from_names(["base_color", "normal", "roughness"])
-    linear = np.array([[[0.0, 0.2158605, 1.0]]], dtype=np.float32)  # sRGB codes 0, 128, 255
-    rgb = to_display(schema["base_color"], linear)[0, 0]
-    assert rgb.tolist() == [0, 128, 255, 255]
-    normal = to_display(schema["normal"], np.array([[[0.0, 0.0, 1.0]]], np.float32))[0, 0]
-    assert normal.tolist() == [128, 128, 255, 255]
-    rough = to_display(schema["roughness"], np.array([[[0.25]]], np.float32))[0, 0]
-    assert rough.tolist() == [64, 64, 64, 255]
+def test_every_code_a_file_can_hold_is_shown_as_that_code() -> None:
+    """Colors are the file's codes already; normals are shown as their file encodes them."""
+    schema = Schema.from_names(["base_color", "normal", "roughness", "phong_exponent"])
+    codes = np.arange(256, dtype=np.float32)
+    phys = np.stack([codes, codes[::-1], codes], axis=-1)[None] / np.float32(255.0)
+    shown = to_display(schema["base_color"], phys)[0]
+    np.testing.assert_array_equal(shown[:, :3], np.stack([codes, codes[::-1], codes], -1))
+    assert (shown[:, 3] == 255).all()
+    gray = to_display(schema["roughness"], codes.reshape(1, 256, 1) / np.float32(255.0))[0]
+    np.testing.assert_array_equal(gray[:, :3], np.repeat(codes[:, None], 3, axis=1))
+    # a normal tilted towards +Y (OpenGL): the OpenGL file stores green 0.5 + 0.5 * 0.6,
+    # a DirectX file 0.5 - 0.5 * 0.6
+    tilted = np.array([[[0.0, 0.6, 0.8]]], np.float32)
+    assert to_display(schema["normal"], tilted)[0, 0].tolist() == [128, 204, 230, 255]
+    directx = to_display(schema["normal"], tilted, normal_convention="directx")[0, 0]
+    assert directx.tolist() == [128, 51, 230, 255]
     assert display_mode(schema["normal"]).kind == "vector"
+    # a Phong exponent n is shown as the equivalent roughness sqrt(2 / (n + 2))
+    exponents = np.array([[[0.0], [2.0], [98.0], [10000.0]]], np.float32)
+    expected = np.round(255.0 * np.sqrt(2.0 / (exponents[0, :, 0] + 2.0)))
+    shown = to_display(schema["phong_exponent"], exponents)[0, :, 0]
+    np.testing.assert_array_equal(shown, expected)
 
 
 def test_zoom_keeps_the_texel_under_the_cursor_fixed() -> None:

@@ -68,6 +68,9 @@ class Document:
         self.background = freeze(
             np.array(np.broadcast_to(np.asarray(fill, np.float32), (schema.edit_width,)))
         )
+        #: how the material's normal file encodes green ("opengl" or "directx"): the
+        #: canvas shows normals as that file does; the stored normals are OpenGL
+        self.normal_convention = "opengl"
         self.layers: list[Layer] = []
         self.events = DocumentEvents()
         self._next_id = 1
@@ -85,6 +88,8 @@ class Document:
         edit = material.to_edit() if isinstance(material, Material) else material
         height, width = edit.size
         doc = cls(edit.schema, height, width, tile_size=tile_size, name=edit.name)
+        if isinstance(material, Material):
+            doc.normal_convention = material.sources.get("normal", {}).get("convention", "opengl")
         doc.insert_layer(doc.new_fill_layer(layer_name, source=edit.data))
         return doc
 
@@ -473,6 +478,7 @@ class Document:
             background=self.background,
             name=self.name,
         )
+        twin.normal_convention = self.normal_convention
         for layer in self.layers:
             copied = copy.copy(layer)
             if isinstance(copied, PaintLayer) and copied.pixels is not None:

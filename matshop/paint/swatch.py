@@ -1,6 +1,7 @@
 """Material swatches: what a brush paints, for any subset of the parameters.
 
-A swatch stores *physical* values (linear color, roughness, a unit normal...)
+A swatch stores *physical* values (a color as its file's sRGB-encoded values
+in [0, 1], a roughness, a unit normal...)
 so a saved library means the same thing whatever editing spaces a document
 uses; it is converted to edit values when a stroke starts. Bronze, say, is a
 color, a roughness, a metallic value and a flat frame, painted in one stroke.

@@ -24,7 +24,7 @@ from PySide6.QtWidgets import (
 from ..paint import Swatch
 from .settings import SwatchModel, short_label
 from .swatch_library import SwatchLibrary
-from .tool_panel import linear_to_qcolor
+from .tool_panel import file_codes_to_qcolor
 
 #: Parameters whose value colours a swatch's icon, first found wins.
 _COLOR_PARAMETERS = ("base_color", "diffuse", "albedo")
@@ -34,7 +34,7 @@ def swatch_icon(swatch: Swatch) -> QIcon:
     """A square of the swatch's color (grey when it paints no color)."""
     pixmap = QPixmap(16, 16)
     value = next((swatch.values[p] for p in _COLOR_PARAMETERS if p in swatch.values), None)
-    pixmap.fill(linear_to_qcolor(value) if value and len(value) >= 3 else QColor(110, 112, 118))
+    pixmap.fill(file_codes_to_qcolor(value) if value and len(value) >= 3 else QColor(110, 112, 118))
     icon = QIcon(pixmap)
     icon.addPixmap(pixmap, QIcon.Mode.Selected)  # no selection tint: the color is the point
     return icon

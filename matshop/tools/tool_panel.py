@@ -35,21 +35,17 @@ if TYPE_CHECKING:
 ColorPicker = Callable[[QColor, QWidget], QColor | None]
 
 
-def _srgb_encode(linear: float) -> float:
-    linear = min(max(linear, 0.0), 1.0)
-    return 12.92 * linear if linear <= 0.0031308 else 1.055 * linear ** (1 / 2.4) - 0.055
+def file_codes_to_qcolor(rgb: tuple[float, ...]) -> QColor:
+    """A swatch color (the file's encoded values in [0, 1]) as the QColor of the same codes.
+
+    Swatch colors are physical values, which for colors are already the
+    file's sRGB-encoded values: shown and picked as they are, never encoded again.
+    """
+    return QColor.fromRgbF(*(min(max(c, 0.0), 1.0) for c in rgb[:3]))
 
 
-def _srgb_decode(encoded: float) -> float:
-    return encoded / 12.92 if encoded <= 0.04045 else ((encoded + 0.055) / 1.055) ** 2.4
-
-
-def linear_to_qcolor(rgb: tuple[float, ...]) -> QColor:
-    return QColor.fromRgbF(*(_srgb_encode(c) for c in rgb[:3]))
-
-
-def qcolor_to_linear(color: QColor) -> tuple[float, float, float]:
-    return tuple(_srgb_decode(c) for c in (color.redF(), color.greenF(), color.blueF()))
+def qcolor_to_file_codes(color: QColor) -> tuple[float, float, float]:
+    return (color.redF(), color.greenF(), color.blueF())
 
 
 def _ask_color(initial: QColor, parent: QWidget) -> QColor | None:
@@ -188,12 +184,12 @@ class SwatchEditor(QGroupBox):
         self.model.set_value(name, (x / norm, y / norm, z / norm, *vector[3:]))
 
     def _qcolor(self, name: str) -> QColor:
-        return linear_to_qcolor(self.model.values[name])
+        return file_codes_to_qcolor(self.model.values[name])
 
     def _choose_color(self, name: str, button: ColorButton) -> None:
         color = self.pick_color(self._qcolor(name), self)
         if color is not None:
-            self.model.set_value(name, qcolor_to_linear(color))
+            self.model.set_value(name, qcolor_to_file_codes(color))
 
     def _sync(self) -> None:
         for name, check in self.checks.items():

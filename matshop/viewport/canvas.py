@@ -29,6 +29,7 @@ from PySide6.QtWidgets import QWidget
 from ..layers import DirtyRegion, Document, Rect
 from ..tools.base import Tool, ToolEvent
 from .display_cache import DisplayCache
+from .mipmaps import level_for_zoom
 from .view import ViewTransform
 
 BACKGROUND = QColor(30, 31, 34)
@@ -87,7 +88,7 @@ class TextureCanvas(QWidget):
         self._image = None
         if doc is not None:
             name = parameter if parameter in doc.schema else doc.schema.names[0]
-            self.cache = DisplayCache(doc, name)
+            self.cache = DisplayCache(doc, name, doc.normal_convention)
             buffer = self.cache.buffer
             height, width = buffer.shape[:2]
             self._image = QImage(
@@ -105,6 +106,12 @@ class TextureCanvas(QWidget):
     def set_parameter(self, name: str) -> None:
         if self.cache is not None and name != self.cache.parameter:
             self.cache.parameter = name
+            self._timer.start()
+
+    def set_normal_convention(self, convention: str) -> None:
+        """Show normals as a file of ``convention`` stores them (the document's choice)."""
+        if self.cache is not None and convention != self.cache.normal_convention:
+            self.cache.normal_convention = convention
             self._timer.start()
 
     def set_overlay(self, image: QImage | None, lit: bool) -> None:
@@ -227,12 +234,9 @@ class TextureCanvas(QWidget):
             )
             painter.setPen(QPen(FRAME, 6))
             painter.drawRect(outline.adjusted(-3, -3, 3, 3))
-            # magnified texels stay crisp squares; minified ones are filtered
-            painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, view.zoom < 1.0)
-            source = QRectF(visible.x0, visible.y0, visible.width, visible.height)
             x0, y0 = view.to_widget(visible.x0, visible.y0)
             target = QRectF(x0, y0, visible.width * view.zoom, visible.height * view.zoom)
-            painter.drawImage(target, self._image, source)
+            self._draw_texture(painter, target, visible)
         if self.lit and self.overlay is not None and visible is not None and not visible.empty:
             # the render covers the whole texture: scale it onto the texture's outline
             painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, True)
@@ -243,6 +247,29 @@ class TextureCanvas(QWidget):
             self._paint_note(painter, self._held)
         elif self.lit:
             self._paint_note(painter, "Lit" if self.overlay is not None else "Rendering…")
+
+    def _draw_texture(self, painter: QPainter, target: QRectF, visible: Rect) -> None:
+        """Draw texels ``visible`` onto ``target``: crisp squares when magnified, filtered when not.
+
+        Zoomed out, the box-filtered mip level with at most a 2x bilinear
+        reduction left is drawn (no moire shimmer while panning).
+        """
+        assert self.cache is not None and self._image is not None
+        zoom = self.view.zoom
+        painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, zoom < 1.0)
+        level = level_for_zoom(zoom)
+        if level == 0:
+            image = self._image
+            scale = 1.0
+        else:
+            pixels = self.cache.mips.level(level)
+            height, width = pixels.shape[:2]
+            image = QImage(pixels.data, width, height, width * 4, QImage.Format.Format_RGBX8888)
+            scale = 1.0 / (1 << level)
+        source = QRectF(
+            visible.x0 * scale, visible.y0 * scale, visible.width * scale, visible.height * scale
+        )
+        painter.drawImage(target, image, source)
 
     def _paint_empty(self, painter: QPainter) -> None:
         painter.setPen(QColor(140, 143, 150))

@@ -1,12 +1,16 @@
 """Physical maps -> 8-bit display pixels, one parameter at a time.
 
-Qt-free numpy so the conversion can be tested and timed on its own. Each
-parameter family is shown the way artists expect to see its texture:
+Qt-free numpy so the conversion can be tested and timed on its own. The
+canvas shows each parameter the way its file stores it, so a texel the
+file holds as (198, 119, 99) is drawn (198, 119, 99):
 
-- colors (linear RGB) through the exact sRGB encode,
-- normal frames as ``0.5 + 0.5 n`` (the familiar blue normal map),
+- colors as the file's own (sRGB-encoded) codes: the physical values *are*
+  the file's encoded values, so they are only quantised, never encoded again,
+- normal frames as the file's encoding ``(n + 1) / 2`` in the file's
+  convention (DirectX files flip green), the familiar blue normal map,
 - microfacet exponents (Phong, Ashikhmin-Shirley) as the equivalent
-  roughness ``sqrt(2 / (n + 2))`` so rough is bright like a roughness map,
+  roughness ``sqrt(2 / (n + 2))`` so rough is bright like a roughness map
+  (an exponent of 0..10000 has no useful 8-bit code of its own),
 - scalars (roughness, metallic, ao, height...) as gray in [0, 1],
 - wide parameters (sampled distributions, profiles) as the gray mean of
   their samples.
@@ -23,21 +27,7 @@ import numpy as np
 
 from ..material import Parameter, Schema
 
-#: Entries of the sRGB encode table; 4096 levels keep 8-bit output exact to
-#: within one code value while a table lookup is ~10x faster than pow().
-_LUT_SIZE = 4096
-
-
-def _srgb_table() -> np.ndarray:
-    linear = np.linspace(0.0, 1.0, _LUT_SIZE, dtype=np.float64)
-    encoded = np.where(
-        linear <= 0.0031308, 12.92 * linear, 1.055 * np.power(linear, 1 / 2.4) - 0.055
-    )
-    return np.round(encoded * 255.0).astype(np.uint8)
-
-
-_SRGB = _srgb_table()
-_LINEAR = np.round(np.linspace(0.0, 255.0, _LUT_SIZE)).astype(np.uint8)
+_F32 = np.float32
 
 
 @dataclass(frozen=True)
@@ -52,9 +42,9 @@ def display_mode(param: Parameter) -> DisplayMode:
     """The display mode of a schema parameter (by its editing space and width)."""
     space = param.space.name
     if space in ("srgb", "gamma22"):
-        return DisplayMode("color", "linear color, shown sRGB-encoded")
+        return DisplayMode("color", "color as the file stores it (sRGB codes)")
     if space.startswith("normal"):
-        return DisplayMode("vector", "normal shown as 0.5 + 0.5 n")
+        return DisplayMode("vector", "normal as the file stores it: (n + 1) / 2")
     if space.startswith(("phong", "ashikhmin_shirley")):
         return DisplayMode("exponent", "exponent shown as equivalent roughness sqrt(2/(n+2))")
     if param.phys_channels <= 3 and param.phys_channels != 2:
@@ -64,17 +54,34 @@ def display_mode(param: Parameter) -> DisplayMode:
     return DisplayMode("wide", f"mean of {param.phys_channels} samples")
 
 
-def _encode(values: np.ndarray, table: np.ndarray) -> np.ndarray:
-    """Float values (clipped to [0, 1]) -> uint8 through a lookup table."""
-    index = np.clip(values, 0.0, 1.0)  # a new array: scaled in place below
-    index *= _LUT_SIZE - 1
-    return table[(index + 0.5).astype(np.intp)]
+def _codes(values: np.ndarray) -> np.ndarray:
+    """Float values in [0, 1] (clipped) -> the nearest 8-bit codes."""
+    scaled = np.clip(values, _F32(0.0), _F32(1.0))  # a new array: scaled in place below
+    scaled *= _F32(255.0)
+    scaled += _F32(0.5)
+    return scaled.astype(np.uint8)
 
 
-def to_display(param: Parameter, phys: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+def _normal_codes(normal: np.ndarray, convention: str) -> np.ndarray:
+    """Unit OpenGL normals -> the file's codes ``(n + 1) / 2`` in ``convention``."""
+    rgb = normal[..., :3] * _F32(0.5) + _F32(0.5)
+    if convention == "directx":  # their +Y points down the image
+        rgb[..., 1] = _F32(1.0) - rgb[..., 1]
+    return _codes(rgb)
+
+
+def to_display(
+    param: Parameter,
+    phys: np.ndarray,
+    out: np.ndarray | None = None,
+    *,
+    normal_convention: str = "opengl",
+) -> np.ndarray:
     """Physical values ``(h, w, P)`` of ``param`` -> RGBX ``(h, w, 4)`` uint8.
 
-    ``out`` (e.g. a view into the canvas buffer) is filled and returned when given.
+    ``out`` (e.g. a view into the canvas buffer) is filled and returned when
+    given. ``normal_convention`` (``"opengl"`` or ``"directx"``) is the normal
+    file's, so normals look as they do in that file.
     """
     height, width = phys.shape[:2]
     if out is None:
@@ -82,16 +89,16 @@ def to_display(param: Parameter, phys: np.ndarray, out: np.ndarray | None = None
     mode = display_mode(param).kind
     phys = np.asarray(phys, dtype=np.float32)
     if mode == "color":
-        rgb = _encode(phys[..., :3], _SRGB)
+        rgb = _gray_or_rg(_codes(phys[..., :3]))
     elif mode == "vector":
-        rgb = _encode(phys[..., :3] * np.float32(0.5) + np.float32(0.5), _LINEAR)
+        rgb = _normal_codes(phys, normal_convention)
     elif mode == "exponent":
-        rough = np.sqrt(np.float32(2.0) / (np.maximum(phys, 0.0) + np.float32(2.0)))
-        rgb = _gray_or_rg(_encode(rough, _LINEAR))
+        rough = np.sqrt(_F32(2.0) / (np.maximum(phys, _F32(0.0)) + _F32(2.0)))
+        rgb = _gray_or_rg(_codes(rough))
     elif mode == "wide":
-        rgb = _gray_or_rg(_encode(phys.mean(axis=-1, keepdims=True), _LINEAR))
+        rgb = _gray_or_rg(_codes(phys.mean(axis=-1, keepdims=True)))
     else:
-        rgb = _gray_or_rg(_encode(phys, _LINEAR))
+        rgb = _gray_or_rg(_codes(phys))
     out[..., :3] = rgb
     out[..., 3] = 255
     return out

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..layers import DirtyRegion, Document, Rect
 from .display import to_display
+from .mipmaps import MipPyramid
 
 #: Texels converted per piece: big enough that per-call overhead vanishes,
 #: small enough that one piece fits well within a frame on a 2K set.
@@ -26,10 +27,13 @@ PIECE_TEXELS = 256 * 256
 class DisplayCache:
     """RGBX pixels of ``parameter`` of ``doc``'s flattened physical maps."""
 
-    def __init__(self, doc: Document, parameter: str) -> None:
+    def __init__(self, doc: Document, parameter: str, normal_convention: str = "opengl") -> None:
         self.doc = doc
         self.buffer = np.zeros((doc.height, doc.width, 4), dtype=np.uint8)
         self.buffer[..., 3] = 255
+        #: box-filtered smaller copies of ``buffer`` for zoomed-out drawing
+        self.mips = MipPyramid(self.buffer)
+        self._convention = normal_convention
         self.parameter = parameter
         self.pending = doc.layout.all_tiles()
         self.seconds = 0.0  # time spent converting, for the status bar and benchmarks
@@ -43,6 +47,17 @@ class DisplayCache:
         self._param = self.doc.schema[name]
         self._parameter = name
         self.pending = self.doc.layout.all_tiles()
+
+    @property
+    def normal_convention(self) -> str:
+        """The normal file's convention: normals are shown as that file shows them."""
+        return self._convention
+
+    @normal_convention.setter
+    def normal_convention(self, convention: str) -> None:
+        if convention != self._convention:
+            self._convention = convention
+            self.pending = self.doc.layout.all_tiles()
 
     @property
     def busy(self) -> bool:
@@ -68,8 +83,14 @@ class DisplayCache:
         done = []
         for rect in pieces:
             phys = self.doc.physical(rect, copy=False)[self._parameter]
-            to_display(self._param, phys, out=self.buffer[rect.slices])
+            to_display(
+                self._param,
+                phys,
+                out=self.buffer[rect.slices],
+                normal_convention=self._convention,
+            )
             self.pending &= ~layout.tiles_of(rect)
+            self.mips.mark(rect)
             done.append(rect)
             if budget_s is not None and time.perf_counter() - start > budget_s:
                 break
