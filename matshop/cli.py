@@ -14,6 +14,7 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from . import __version__
 from .errors import MatshopError
@@ -67,7 +68,20 @@ def _parse_spaces(pairs: Sequence[str]) -> dict[str, str]:
     return spaces
 
 
+def _parse_maps(pairs: Sequence[str]) -> dict[str, Path | None]:
+    maps: dict[str, Path | None] = {}
+    for pair in pairs:
+        slot, sep, file = pair.partition("=")
+        if not sep or not slot.strip():
+            raise MatshopError(
+                f"--map expects SLOT=FILE (FILE empty: leave the slot out), got {pair!r}"
+            )
+        maps[slot.strip()] = Path(file) if file else None
+    return maps
+
+
 def add_load_options(parser: argparse.ArgumentParser) -> None:
+    """Options of every verb that loads a texture set."""
     parser.add_argument(
         "--space",
         action="append",
@@ -80,8 +94,31 @@ def add_load_options(parser: argparse.ArgumentParser) -> None:
         "--normal-convention",
         choices=("opengl", "directx"),
         help="green channel convention of the normal map (default: from the file "
-        "name, else guessed from the map)",
+        "name, else a confident guess from the map, else opengl)",
     )
+    parser.add_argument(
+        "--material",
+        metavar="NAME",
+        help="which material of a folder that holds several (`matshop info FOLDER` lists them)",
+    )
+    parser.add_argument(
+        "--map",
+        action="append",
+        default=[],
+        metavar="SLOT=FILE",
+        help="load FILE as SLOT, adding to or overriding what detection found, e.g. "
+        "metallic=../shared/king_metallic.jpg (repeatable; SLOT= leaves a slot out)",
+    )
+
+
+def load_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The keyword arguments of ``load_material`` that :func:`add_load_options` parsed."""
+    return {
+        "spaces": _parse_spaces(args.space),
+        "normal_convention": args.normal_convention,
+        "material": args.material,
+        "maps": _parse_maps(args.map),
+    }
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -9,7 +9,8 @@ import numpy as np
 
 from .errors import MatshopError
 from .io.material_io import LoadReport, load_material, save_material
-from .material import Material
+from .io.textureset import TextureSet
+from .material import EditMaterial, Material
 from .progress import progress_bar
 
 _ENCODINGS = {
@@ -31,11 +32,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _load(path: Path, args: argparse.Namespace) -> tuple[Material, LoadReport]:
-    from .cli import _parse_spaces
+    from .cli import load_options
 
-    return load_material(
-        path, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
-    )
+    return load_material(path, **load_options(args))
 
 
 def _encoding(material: Material, name: str) -> str:
@@ -82,10 +81,19 @@ def describe(material: Material, report: LoadReport) -> str:
         f"edit vector: {material.schema.edit_width} channels per texel "
         f"({', '.join(f'{n} {s}' for n, s in _slices(material))})"
     )
-    for path in ts.unrecognised:
-        lines.append(f"ignored (name not recognised): {Path(path).name}")
     lines.extend(report.notes)
+    lines.extend(f"not used: {name} ({why})" for name, why in not_used(ts))
     return "\n".join(lines)
+
+
+def not_used(ts: TextureSet) -> list[tuple[str, str]]:
+    """(file name, why) for every file beside the set that is not loaded."""
+    rows = [(p.name, "name matches no map") for p in ts.unrecognised]
+    rows += [
+        (p.name, f"the other {slot} convention") for slot, ps in ts.alternates.items() for p in ps
+    ]
+    rows += [(p.name, why) for p, why in ts.not_used.items()]
+    return sorted(rows)
 
 
 def _slices(material: Material) -> list[tuple[str, str]]:
@@ -145,14 +153,24 @@ def convert(
     return back, written, roundtrip_errors(material, back)
 
 
+def print_convention(material: Material | EditMaterial) -> None:
+    """Say how the normal map was read: a wrong guess would flip every file written."""
+    from .io.normal_convention import convention_line
+
+    line = convention_line(material.sources)
+    if line is not None:
+        print(line)
+
+
 def cmd_convert(args: argparse.Namespace) -> int:
-    _, written, errors = convert(
+    back, written, errors = convert(
         args.input,
         args.output,
         args=args,
         sampled_distribution=args.sampled_distribution,
         force=args.force,
     )
+    print_convention(back)
     for path in written:
         print(f"wrote {path}")
     for name, error in errors.items():
@@ -162,7 +180,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
 
 def cmd_apply(args: argparse.Namespace) -> int:
     from .api import EditableMaterial
-    from .cli import _parse_spaces
+    from .cli import load_options
     from .ops import get_op
 
     # parse every op before any work, so a typo in the last one costs nothing
@@ -172,9 +190,8 @@ def cmd_apply(args: argparse.Namespace) -> int:
         values = spec.parse_args(pairs)
         spec.bind({k: v for k, v in values.items() if k not in spec.all_inputs})
         steps.append((name, values))
-    m = EditableMaterial.from_path(
-        args.input, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
-    )
+    m = EditableMaterial.from_path(args.input, **load_options(args))
+    print_convention(m.edit)
     mask = None
     if args.mask is not None:
         from .api import load_mask
@@ -239,7 +256,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
         ("round trip through edit space", "roundtrip", False),
         ("with a sampled 128-bin distribution", "sampled", True),
     ):
-        _, written, errors = convert(
+        back, written, errors = convert(
             sample,
             args.out / sub,
             args=_defaults(args),
@@ -318,4 +335,6 @@ def _demo_layers(material: Material, out: Path) -> None:
 
 
 def _defaults(args: argparse.Namespace) -> argparse.Namespace:
-    return argparse.Namespace(space=getattr(args, "space", []), normal_convention=None)
+    return argparse.Namespace(
+        space=getattr(args, "space", []), normal_convention=None, material=None, map=[]
+    )

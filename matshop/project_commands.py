@@ -59,7 +59,9 @@ def cmd_new(args: argparse.Namespace) -> int:
 
         if args.size or args.params:
             raise MatshopError("--size and --params are for empty documents, not with --from")
-        material, _ = load_material(args.source)
+        from .cli import load_options
+
+        material, _ = load_material(args.source, **load_options(args))
         doc = Document.from_material(material)
     else:
         if not args.size or not args.params:

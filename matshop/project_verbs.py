@@ -24,6 +24,8 @@ VERB_MODULE = "matshop.project_verbs"
 
 
 def add_parsers(verbs: Any) -> None:
+    from .cli import add_load_options  # stdlib only; loaded already when verbs are built
+
     new = verbs.add_parser(
         "new",
         help="create a .matshop project (from a texture set, or empty)",
@@ -35,6 +37,7 @@ def add_parsers(verbs: Any) -> None:
     new.add_argument("--size", help="WIDTHxHEIGHT of an empty document, e.g. 2048x2048")
     new.add_argument("--params", help="parameters of an empty document, e.g. base_color,roughness")
     new.add_argument("--force", action="store_true", help="overwrite an existing project")
+    add_load_options(new)
     new.set_defaults(verb_module=VERB_MODULE, action="new")
 
     layer = verbs.add_parser(

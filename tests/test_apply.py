@@ -126,7 +126,7 @@ def test_masked_result_is_written_through_from_edit(tmp_path: Path) -> None:
         )
         == 0
     )
-    normal, _ = read_image(tmp_path / "o" / "tiles_normal.png")
+    normal, _ = read_image(tmp_path / "o" / "tiles_normal_gl.png")
     # scaling the frame by 0 flattens every normal to +z: (0.5, 0.5, 1) in the file
     assert np.abs(normal - [0.5, 0.5, 1.0]).max() <= 1 / 255
 

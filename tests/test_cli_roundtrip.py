@@ -56,7 +56,7 @@ def test_convert_round_trips_8bit_codes_exactly(tmp_path: Path) -> None:
         worst = np.abs(codes_in - codes_out).max()
         assert worst == 0, f"{name}: 8-bit codes moved by {worst}"
     # normals: back to the same direction within one 8-bit quantisation step
-    rgb, _ = read_image(out / "chessboard_normal.png")
+    rgb, _ = read_image(out / "chessboard_normal_gl.png")
     back = decode_normal_map(rgb, convention="opengl")
     worst = _angle_deg(back, original.maps["normal"]).max()
     one_step_deg = np.degrees(2.0 / 255.0)  # 2/255 in [-1, 1] at the sphere's steepest

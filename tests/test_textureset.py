@@ -33,7 +33,10 @@ NAMES = [
     ("Mat_Normal_OpenGL.png", "normal", "Mat", "opengl"),
     ("Mat_Normal_DirectX.png", "normal", "Mat", "directx"),
     ("Mat_OcclusionRoughnessMetallic.png", "orm", "Mat", None),
-    ("Mat_MaskMap.png", "mask", "Mat", None),
+    ("Mat_MaskMap.png", "mask_map", "Mat", None),
+    ("Mat_mask_map_2k.png", "mask_map", "Mat", None),
+    ("brick_base_gray.jpg", "base_color", "brick", None),
+    ("rock_normal_map.png", "normal", "rock", None),
     ("Mat_MetallicSmoothness.png", "metallic_smoothness", "Mat", None),
     ("Mat_AlbedoTransparency.png", "base_color", "Mat", None),
     ("Mat_metallicRoughness.png", "metallic_roughness", "Mat", None),
@@ -74,7 +77,7 @@ def test_names(name, slot, material, convention):
 
 
 @pytest.mark.parametrize(
-    "name", ["Bricks076C.png", "preview.png", "rock_gl.png", "rock_2k.png", "1234.png", "_.png"]
+    "name", ["Bricks076C.png", "notes.png", "rock_gl.png", "rock_2k.png", "1234.png", "_.png"]
 )
 def test_names_without_a_tag(name):
     assert parse_map_name(name) is None
@@ -135,7 +138,8 @@ def test_ambientcg_folder_with_preview(tmp_path):
     assert ts.name == "Bricks076C"
     assert set(ts.maps) == {"base_color", "normal", "roughness", "ao", "height"}
     assert ts.maps["normal"].name.endswith("NormalGL.png")
-    assert [p.name for p in ts.unrecognised] == ["Bricks076C.png"]
+    assert ts.unrecognised == []
+    assert ts.not_used == {folder / "Bricks076C.png": "a preview image (named like the material)"}
     # one file of the set selects the same set
     one = detect_texture_set(folder / f"{stem}_Roughness.png")
     assert one.maps == ts.maps and one.name == ts.name
@@ -151,7 +155,7 @@ def test_substance_and_unity_names(tmp_path):
         ".Mat_Height.tmp-1a2b.png",  # a temp file of an interrupted save
     )
     ts = detect_texture_set(folder)
-    assert set(ts.maps) == {"base_color", "normal", "orm", "mask"} and ts.name == "Mat"
+    assert set(ts.maps) == {"base_color", "normal", "orm", "mask_map"} and ts.name == "Mat"
     assert ts.hints == {}
 
 
@@ -169,7 +173,7 @@ def test_preview_named_like_material_is_not_a_map(tmp_path):
     )
     ts = detect_texture_set(folder)
     assert set(ts.maps) == {"base_color", "roughness"}
-    assert [p.name for p in ts.unrecognised] == ["rusty_metal_02.png"]
+    assert list(ts.not_used) == [folder / "rusty_metal_02.png"]
 
 
 def test_several_materials_need_a_file_to_choose(tmp_path):
@@ -200,20 +204,69 @@ def test_resolutions_are_separate_sets(tmp_path):
     assert {p.name for p in ts.maps.values()} == {"rock_diff_2k.png", "rock_rough_2k.png"}
 
 
+def write_maps(folder: Path, files: dict[str, tuple[int, str]]) -> Path:
+    """Real 8x8 images: name -> (channels, bit depth), a ramp in every channel."""
+    import numpy as np
+
+    from matshop.io.images import write_image
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, (channels, depth) in files.items():
+        ramp = np.linspace(0.1, 0.9, 64, dtype=np.float32).reshape(8, 8, 1)
+        write_image(folder / name, np.repeat(ramp, channels, axis=2), bit_depth=depth)
+    return folder
+
+
 @pytest.mark.parametrize(
-    ("names", "clash"),
+    ("files", "slot", "winner", "reason"),
     [
-        (("rock_diff.png", "rock_albedo.png"), "base_color"),
-        (("rock_diff.png", "rock_diff.jpg"), "base_color"),
-        (("rock_nor.png", "rock_nor_gl.png"), "normal"),  # only one says its convention
+        (
+            {"rock_nor.png": (3, "uint8"), "rock_nor.exr": (3, "half")},
+            "normal",
+            "rock_nor.exr",
+            "half over uint8, the deeper file wins",
+        ),
+        (
+            {"rock_diff.png": (3, "uint16"), "rock_diff.tif": (3, "uint8")},
+            "base_color",
+            "rock_diff.png",
+            "uint16 over uint8",
+        ),
+        (
+            {"rock_diff.png": (3, "uint8"), "rock_diff.jpg": (3, "uint8")},
+            "base_color",
+            "rock_diff.png",
+            "lossless over JPEG",
+        ),
+        (
+            {"rock_nor.png": (3, "uint8"), "rock_nor_gl.png": (3, "uint8")},
+            "normal",
+            "rock_nor_gl.png",
+            "its name states the normal convention",
+        ),
+        (
+            {"rock_diff.png": (3, "uint8"), "rock_albedo.png": (3, "uint8")},
+            "base_color",
+            "rock_albedo.png",
+            "alike; the first by name",
+        ),
     ],
 )
-def test_two_files_for_one_slot(tmp_path, names, clash):
-    folder = make_folder(tmp_path / "c", *names)
-    with pytest.raises(MatshopError, match=f"both claim the {clash} slot") as err:
-        detect_texture_set(folder)
-    for name in names:
-        assert name in str(err.value)
+def test_two_files_for_one_slot_the_better_one_wins(tmp_path, files, slot, winner, reason):
+    folder = write_maps(tmp_path / "c", files)
+    ts = detect_texture_set(folder)
+    assert ts.maps[slot].name == winner
+    (loser,) = set(files) - {winner}
+    assert reason in ts.not_used[folder / loser] and loser in " ".join(ts.notes)
+    assert any(reason in note for note in ts.notes)
+
+
+def test_an_unreadable_duplicate_loses(tmp_path):
+    folder = write_maps(tmp_path / "u", {"rock_nor.png": (3, "uint8")})
+    (folder / "rock_nor.exr").write_bytes(b"not an exr")
+    ts = detect_texture_set(folder)
+    assert ts.maps["normal"].name == "rock_nor.png"
+    assert "rock_nor.exr cannot be read" in ts.not_used[folder / "rock_nor.exr"]
 
 
 @pytest.mark.parametrize("names", [(), ("readme.txt",), ("photo.png", "notes.jpg")])

@@ -26,6 +26,7 @@ import numpy as np
 from ..errors import MatshopError
 from ..io.fileset import PendingFile, check_targets, write_all
 from ..io.images import probe_image, write_image
+from ..io.normal_convention import CONVENTION_ATTRIBUTE
 from ..material import Material
 from .pack import is_written, pack_output, plan_missing
 from .presets import OutputSpec, Preset, load_preset
@@ -220,7 +221,10 @@ def _texture_writer(
             dither=output.dithering,
             seed=zlib.crc32(f"{seed}:{output.channel}".encode()),
         )
-        write_image(path, codes, bit_depth=output.bit_depth)
+        frames = {"normal", "tangent"} & set(output.sources)
+        # the convention travels with the file, so reading it back never guesses
+        attributes = {CONVENTION_ATTRIBUTE: preset.normal_convention} if frames else None
+        write_image(path, codes, bit_depth=output.bit_depth, attributes=attributes)
 
     return write
 

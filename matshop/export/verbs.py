@@ -30,6 +30,8 @@ examples:
 
 
 def add_parsers(verbs: argparse._SubParsersAction) -> None:
+    from ..cli import add_load_options  # stdlib only; loaded already when verbs are built
+
     parser = verbs.add_parser(
         "export",
         help="write a texture set for an engine (Unreal, Unity, glTF, Godot, raw)",
@@ -64,12 +66,7 @@ def add_parsers(verbs: argparse._SubParsersAction) -> None:
         "(default: fill it with the engine's default and say so)",
     )
     parser.add_argument("--force", action="store_true", help="overwrite existing files")
-    parser.add_argument(
-        "--normal-convention",
-        choices=("opengl", "directx"),
-        help="green channel convention of the input normal map (default: from the "
-        "file name, else guessed)",
-    )
+    add_load_options(parser)
     parser.set_defaults(verb_module=VERB_MODULE)
 
 
@@ -90,10 +87,12 @@ def run(args: argparse.Namespace) -> int:
         raise MatshopError("--mesh is only used with --glb")
     preset = load_preset(args.preset, path=args.preset_file)
 
+    from ..cli import load_options
     from ..io.inputs import load_flattened
+    from ..io.normal_convention import convention_line
     from .core import export_material
 
-    material = load_flattened(args.input, normal_convention=args.normal_convention)
+    material = load_flattened(args.input, **load_options(args))
     summary = export_material(
         material,
         preset,
@@ -106,6 +105,7 @@ def run(args: argparse.Namespace) -> int:
         mesh=args.mesh,
         mtlx=args.mtlx,
     )
-    for line in summary.lines():
+    read_as = convention_line(material.sources)
+    for line in ([read_as] if read_as else []) + summary.lines():
         print(line)
     return 0

@@ -19,15 +19,16 @@ import numpy as np
 
 from ..errors import MatshopError
 from ..material import PARAMETER_KINDS, Material, ProgressCallback, Schema
-from ..spaces.frame import (
-    decode_normal_map,
-    encode_normal_map,
-    guess_normal_convention,
-    height_to_normal,
-)
+from ..spaces.frame import decode_normal_map, encode_normal_map, height_to_normal
 from .fileset import PendingFile, write_all
 from .images import ImageInfo, read_image, write_image
-from .textureset import PACKED_CHANNELS, TextureSet, check_texture_set, detect_texture_set
+from .normal_convention import (
+    CONVENTION_ATTRIBUTE,
+    CONVENTION_TOKENS,
+    DEFAULT_CONVENTION,
+    decide_convention,
+)
+from .textureset import PACKED_CHANNELS, TextureSet, check_texture_set, resolve_texture_set
 
 #: slots whose first channel is a scalar parameter
 _SCALAR_SLOTS: dict[str, str] = {
@@ -119,6 +120,8 @@ def load_material(
     spaces: dict[str, str] | None = None,
     normal_convention: str | None = None,
     max_pixels: int | None = None,
+    material: str | None = None,
+    maps: dict[str, str | os.PathLike | None] | None = None,
 ) -> tuple[Material, LoadReport]:
     """Load the texture set at ``path`` (a folder or one of its files).
 
@@ -128,8 +131,11 @@ def load_material(
         then corrected by the user with :func:`~matshop.io.textureset.with_slot`).
     spaces : optional editing-space override per parameter (``{"roughness": "ggx_alpha"}``).
     normal_convention : ``"opengl"`` or ``"directx"``; default: the file-name hint
-        (``_NormalGL``, ``_nor_dx``), else a guess from the normal map's curl.
+        (``_NormalGL``, ``_nor_dx``), else a confident guess from the normal map,
+        else OpenGL (:func:`~matshop.io.normal_convention.decide_convention`).
     max_pixels : refuse images larger than this many texels.
+    material : which material of a folder holding several (as detection lists them).
+    maps : explicit files per slot, added or overriding detection (None: leave empty).
 
     Raises
     ------
@@ -137,18 +143,23 @@ def load_material(
     """
     if isinstance(path, TextureSet):
         ts = path
-        check_texture_set(ts)
     else:
-        ts = detect_texture_set(path)
+        ts = resolve_texture_set(path, material=material, maps=maps)
+    check_texture_set(ts)
     arrays, infos = _read_all(ts, max_pixels)
-    report = LoadReport(ts, infos)
+    report = LoadReport(ts, infos, notes=list(ts.notes))
     maps: dict[str, np.ndarray] = {}
     sources: dict[str, dict] = {}
 
     def take(param: str, array: np.ndarray, slot: str, **extra: object) -> None:
         maps[param] = array.astype(np.float32, copy=False)
         info = infos[slot]
-        sources[param] = {"file": str(ts.maps[slot]), "bit_depth": info.bit_depth, **extra}
+        sources[param] = {
+            "file": str(ts.maps[slot]),
+            "slot": slot,
+            "bit_depth": info.bit_depth,
+            **extra,
+        }
 
     for slot, param in _COLOR_SLOTS.items():
         if slot in arrays:
@@ -184,7 +195,7 @@ def load_material(
         if slot in arrays:
             take(param, arrays[slot], slot)
 
-    _load_frame(ts, arrays, infos, maps, sources, report, normal_convention)
+    _load_frame(ts, arrays, infos, maps, sources, report, normal_convention or ts.normal_convention)
 
     names = [n for n in PARAMETER_KINDS if n in maps]
     spaces = dict(spaces or {})
@@ -220,11 +231,14 @@ def _load_frame(
                 "if it is a height or bump map, name it *_height or *_bump",
                 path,
             )
-        convention = normal_convention or ts.hints.get("normal", {}).get("convention")
-        how = "given" if normal_convention else "file name"
-        if convention is None:
-            convention, confidence = guess_normal_convention(rgb[..., :3])
-            how = f"guessed from the map (confidence {confidence:.2f})"
+        convention, how, note = decide_convention(
+            rgb[..., :3],
+            given=normal_convention,
+            from_name=ts.hints.get("normal", {}).get("convention"),
+            from_metadata=infos["normal"].attributes.get(CONVENTION_ATTRIBUTE),
+        )
+        if note is not None:
+            report.notes.append(f"{path.name}: {note}")
         normal = decode_normal_map(rgb[..., :3], convention=convention)
         if "tangent" in arrays:
             tangent = decode_normal_map(arrays["tangent"][..., :3], convention=convention)
@@ -232,14 +246,17 @@ def _load_frame(
         maps["normal"] = normal
         sources["normal"] = {
             "file": str(path),
+            "slot": "normal",
             "bit_depth": infos["normal"].bit_depth,
             "convention": convention,
             "convention_source": how,
+            **({"convention_note": note} if note else {}),
         }
     elif "bump" in arrays:
         maps["normal"] = height_to_normal(_first_channel(arrays["bump"]), wrap=True)
         sources["normal"] = {
             "file": str(ts.maps["bump"]),
+            "slot": "bump",
             "bit_depth": infos["bump"].bit_depth,
             "convention": "opengl",
             "convention_source": "derived from bump map",
@@ -265,10 +282,11 @@ def _file_plan(material: Material) -> list[tuple[str, np.ndarray, str, dict]]:
         depth = _bit_depth_for(material, name)
         attrs = {"matshop:space": param.space.name}
         if name == "normal":
-            convention = material.sources.get(name, {}).get("convention", "opengl")
+            convention = material.sources.get(name, {}).get("convention", DEFAULT_CONVENTION)
+            attrs = {**attrs, CONVENTION_ATTRIBUTE: convention}
             plan.append(
                 (
-                    f"{tag}.png",
+                    f"{tag}_{CONVENTION_TOKENS[convention]}.png",  # read back without a guess
                     encode_normal_map(array[..., :3], convention=convention),
                     depth if depth in ("uint8", "uint16") else "uint16",
                     attrs,

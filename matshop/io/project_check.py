@@ -98,6 +98,7 @@ class ManifestSpec:
     schema: Schema
     layers: list[LayerSpec]
     settings: dict[str, Any]
+    sources: dict[str, dict] = field(default_factory=dict)
 
     def members(self) -> list[GridSpec | ArraySpec]:
         """Every member the manifest references, in order."""
@@ -253,7 +254,29 @@ def parse_manifest(manifest: Any) -> ManifestSpec:
     if len(set(ids)) != len(ids):
         raise FormatProblem("two layers have the same id")
     settings = _dict(manifest.get("settings", {}), "settings")
-    return ManifestSpec(version, app, name, layout, background, schema, layers, settings)
+    sources = _parse_sources(doc.get("sources", {}))
+    return ManifestSpec(version, app, name, layout, background, schema, layers, settings, sources)
+
+
+def _parse_sources(value: Any) -> dict[str, dict[str, str | int | float | bool | None]]:
+    """Where each parameter came from: {param: {key: scalar}} (older projects: none)."""
+    sources = {}
+    for param, entry in _dict(value, "document sources").items():
+        where = f"document sources[{param[:40]!r}]"
+        _str(param, "document sources key")
+        entry = _dict(entry, where)
+        if len(entry) > MAX_PARAMETERS:
+            raise FormatProblem(f"{where} has more than {MAX_PARAMETERS} entries")
+        for key, item in entry.items():
+            _str(key, f"{where} key")
+            if isinstance(item, str):
+                _str(item, f"{where}[{key[:40]!r}]")
+            elif item is not None and not isinstance(item, (bool, int, float)):
+                raise FormatProblem(f"{where}[{key[:40]!r}] must be a string or a number")
+        sources[param] = dict(entry)
+    if len(sources) > MAX_PARAMETERS:
+        raise FormatProblem(f"document sources name more than {MAX_PARAMETERS} parameters")
+    return sources
 
 
 def _parse_schema(value: Any) -> Schema:

@@ -6,7 +6,8 @@ A project file is a zip archive (see :mod:`matshop.io.project_store`) holding
     {
       "format": "matshop", "format_version": 1, "app_version": "0.1.0",
       "document": {"name": str, "height": int, "width": int, "tile_size": int,
-                   "background": [float] * C},
+                   "background": [float] * C,
+                   "sources": {param: {"file": str, "slot": str, "convention": str, ...}}},
       "schema": [{"name": str, "space": str, "edit_channels": int}, ...],
       "layers": [                                  # bottom to top
         {"kind": "paint" | "fill" | "filter" | "group", "id": int, "name": str,
@@ -121,6 +122,7 @@ def encode(document: Document, settings: dict[str, Any] | None) -> tuple[dict, l
     if not isinstance(settings, dict):
         raise FormatProblem(f"settings must be a dict, got {type(settings).__name__}")
     _check_json(settings, "settings")
+    _check_json(document.sources, "document sources")
     if not np.isfinite(document.background).all():
         raise FormatProblem("the document background holds NaN or infinite values")
     payloads: list[Payload] = []
@@ -137,6 +139,7 @@ def encode(document: Document, settings: dict[str, Any] | None) -> tuple[dict, l
             "width": document.width,
             "tile_size": document.layout.tile_size,
             "background": _floats(document.background),
+            "sources": document.sources,
         },
         "schema": [
             {"name": p.name, "space": p.space.name, "edit_channels": p.edit_channels}

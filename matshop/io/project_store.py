@@ -322,6 +322,7 @@ def _build(spec: ManifestSpec, arrays: dict[str, np.ndarray], path: Path) -> Doc
         tile_size=spec.layout.tile_size,
         background=spec.background,
         name=spec.name,
+        sources=spec.sources,
     )
     try:
         layers = [_layer(doc, layer, arrays) for layer in spec.layers]

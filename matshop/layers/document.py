@@ -60,17 +60,18 @@ class Document:
         tile_size: int = 64,
         background: np.ndarray | None = None,
         name: str = "untitled",
+        sources: dict[str, dict] | None = None,
     ) -> None:
         self.schema = schema
         self.name = name
+        #: where each parameter came from (file, slot, bit depth, normal convention):
+        #: kept in projects, and flattening writes normals in the source's convention
+        self.sources: dict[str, dict] = dict(sources or {})
         self.layout = TileLayout(height, width, tile_size)
         fill = np.zeros(schema.edit_width) if background is None else background
         self.background = freeze(
             np.array(np.broadcast_to(np.asarray(fill, np.float32), (schema.edit_width,)))
         )
-        #: how the material's normal file encodes green ("opengl" or "directx"): the
-        #: canvas shows normals as that file does; the stored normals are OpenGL
-        self.normal_convention = "opengl"
         self.layers: list[Layer] = []
         self.events = DocumentEvents()
         self._next_id = 1
@@ -87,11 +88,20 @@ class Document:
         """A document whose bottom layer is a fill layer holding ``material``."""
         edit = material.to_edit() if isinstance(material, Material) else material
         height, width = edit.size
-        doc = cls(edit.schema, height, width, tile_size=tile_size, name=edit.name)
-        if isinstance(material, Material):
-            doc.normal_convention = material.sources.get("normal", {}).get("convention", "opengl")
+        doc = cls(
+            edit.schema, height, width, tile_size=tile_size, name=edit.name, sources=edit.sources
+        )
         doc.insert_layer(doc.new_fill_layer(layer_name, source=edit.data))
         return doc
+
+    @property
+    def normal_convention(self) -> str:
+        """How the material's normal file encodes green ("opengl" or "directx").
+
+        The canvas shows normals as that file does, and flattening writes them
+        so; the stored normals are OpenGL whatever the file's convention.
+        """
+        return self.sources.get("normal", {}).get("convention", "opengl")
 
     # -- shape -------------------------------------------------------------
 
@@ -450,7 +460,7 @@ class Document:
 
     def flatten_physical(self, *, copy: bool = True) -> Material:
         """The flattened document as a physical :class:`Material` (ready to export)."""
-        return Material(self.name, self.schema, self.physical(copy=copy))
+        return Material(self.name, self.schema, self.physical(copy=copy), dict(self.sources))
 
     def update(self) -> TileSet:
         """Bring every cache up to date (edit and physical); returns the tiles recomputed."""
@@ -477,8 +487,8 @@ class Document:
             tile_size=self.layout.tile_size,
             background=self.background,
             name=self.name,
+            sources=self.sources,
         )
-        twin.normal_convention = self.normal_convention
         for layer in self.layers:
             copied = copy.copy(layer)
             if isinstance(copied, PaintLayer) and copied.pixels is not None:

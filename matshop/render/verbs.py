@@ -122,7 +122,7 @@ def parse_light(text: str):
 def _cmd_render(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..cli import _parse_spaces
+    from ..cli import load_options
     from ..errors import MatshopError
     from ..io.images import write_image
     from ..io.inputs import load_flattened
@@ -157,9 +157,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
             raise MatshopError(f"--tiles must be positive, got {args.tiles}")
         # a sphere is twice as long around as from pole to pole
         options["tiles"] = (args.tiles, args.tiles / 2.0) if scene == "sphere" else args.tiles
-    material = load_flattened(
-        args.input, spaces=_parse_spaces(args.space), normal_convention=args.normal_convention
-    )
+    material = load_flattened(args.input, **load_options(args))
     with progress_bar(f"render {args.size}x{args.size}") as report:
         image = render(
             material,

@@ -385,6 +385,9 @@ def _box_down(x: np.ndarray) -> np.ndarray:
 #: pyramid levels of the convention guess stop when either side drops below this
 _GUESS_MIN_SIZE = 16
 _GUESS_MAX_LEVELS = 6
+#: guesses at or above this confidence are acted on; below it a loader keeps
+#: its default (placeholder until calibrated on a corpus with known answers)
+CONFIDENT_GUESS = 0.5
 
 
 def guess_normal_convention(rgb: np.ndarray) -> tuple[Convention, float]:
