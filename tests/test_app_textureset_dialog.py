@@ -56,7 +56,7 @@ def test_rows_list_maps_alternates_and_unrecognised(messy_set) -> None:
     assert by_file["tiles_normal_gl.png"][0] == "normal"
     assert "convention: opengl" in by_file["tiles_normal_gl.png"][3]
     assert by_file["tiles_normal_dx.png"][3] == "alternate normal: not loaded"
-    assert "not loaded" in by_file["preview.png"][3]
+    assert by_file["preview.png"][3] == "not loaded: a preview image"
     assert by_file["tiles_ao.png"][2].startswith("512x512 ")  # from the header
 
 
@@ -217,3 +217,90 @@ def test_a_set_with_every_file_dropped_is_refused_in_one_line(qtbot, rock_set):
     dialog.accept()
     assert dialog.texture_set is None and dialog.result() != dialog.DialogCode.Accepted
     assert "no maps" in dialog.error.text() and "\n" not in dialog.error.text()
+
+
+@pytest.fixture
+def chess_like(tmp_path) -> Path:
+    """Two materials sharing maps (MaterialX's layout), made of the sample's files."""
+    folder = tmp_path / "chess"
+    folder.mkdir()
+    for tag, name in (
+        ("basecolor", "king_white_base_color.png"),
+        ("ao", "king_black_base_color.png"),
+        ("normal", "king_shared_normal.png"),
+        ("roughness", "king_shared_roughness.png"),
+    ):
+        shutil.copy(SAMPLE / f"tiles_{tag}.png", folder / name)
+    shutil.copy(SAMPLE / "tiles_metallic.png", tmp_path / "metal_for_king.png")  # elsewhere
+    return folder
+
+
+def test_a_folder_of_several_materials_asks_which_then_reviews_it(qtbot, tmp_path, chess_like):
+    window = make_window(tmp_path, DialogPrompts())
+    qtbot.addWidget(window)
+    prompts = window.prompts
+    prompts.folder = chess_like
+    prompts.material_answer = lambda names: "king_white" if "king_white" in names else None
+
+    def review(dialog: TextureSetDialog) -> None:
+        try:
+            check(dialog)
+        finally:  # a failed check must not leave a modal dialog blocking the test
+            if dialog.isVisible():
+                dialog.reject()
+
+    def check(dialog: TextureSetDialog) -> None:
+        rows = {path.name: combo for path, combo in dialog.combos.items()}
+        assert rows["king_shared_normal.png"].currentText() == "normal"  # a shared map
+        assert "king_black_base_color.png" not in rows  # the other material's own map
+        # Add file... through the real button, the file dialog answered by the test
+        dialog.choose_file = lambda: tmp_path / "metal_for_king.png"
+        dialog.add_button.click()
+        added = dialog.combos[tmp_path / "metal_for_king.png"]
+        assert added.currentText() == NOT_LOADED  # its name suggests no free slot
+        added.setCurrentIndex(added.findText("metallic"))
+        # and read the normal map as DirectX
+        control = dialog.normal_convention
+        control.setCurrentIndex(control.findData("directx"))
+        dialog.show()
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        assert dialog.grab().save(str(SHOTS / "27_texture_set_add_file.png"))
+        dialog.accept()
+
+    seen = _in_dialog(qtbot, review)
+    window.actions_by_name["open_folder"].trigger()
+    assert seen and ("material", "king_black, king_white") in prompts.asked
+    doc = window.session.doc
+    assert doc is not None and set(doc.schema.names) == {
+        "base_color",
+        "metallic",
+        "normal",
+        "roughness",
+    }
+    assert Path(doc.sources["metallic"]["file"]) == tmp_path / "metal_for_king.png"
+    assert doc.sources["normal"]["convention"] == "directx"
+    # the file's own pixels: metallic equals the added file's codes
+    from matshop.io.images import read_image
+
+    expected, _ = read_image(SAMPLE / "tiles_metallic.png")
+    np.testing.assert_allclose(
+        doc.flatten_physical().maps["metallic"][..., 0], expected[..., 0], atol=1e-6
+    )
+    # and the normal map was decoded as DirectX: green negated against the file's codes
+    normal_codes, _ = read_image(SAMPLE / "tiles_normal.png")
+    n_y = doc.flatten_physical().maps["normal"][..., 1]
+    raw_y = 2.0 * normal_codes[..., 1] - 1.0
+    assert np.corrcoef(n_y.ravel(), raw_y.ravel())[0, 1] < -0.99
+    window.prompts.save_answer = "discard"
+
+
+def test_declining_the_material_list_opens_nothing(qtbot, tmp_path, chess_like):
+    window = make_window(tmp_path)
+    qtbot.addWidget(window)
+    prompts = window.prompts
+    assert window.open_path(SAMPLE)
+    doc = window.session.doc
+    prompts.material_answer = lambda names: None
+    assert not window.open_path(chess_like)
+    assert window.session.doc is doc and "error" not in prompts.kinds()
+    window.prompts.save_answer = "discard"

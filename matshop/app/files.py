@@ -20,8 +20,9 @@ from PySide6.QtCore import QObject, QTimer, Signal
 
 from ..errors import MatshopError
 from ..io.material_io import load_material
+from ..io.normal_convention import convention_line
 from ..io.project import discard_recovery, find_recovery, load_project, save_project, write_recovery
-from ..io.textureset import TextureSet, detect_texture_set
+from ..io.textureset import SeveralMaterials, detect_texture_set
 from ..layers import Document
 from .prompts import Prompts
 from .session import DocumentSession
@@ -85,8 +86,10 @@ class FileController(QObject):
         self.recentChanged.emit()
         self.opened.emit(state)
         what = "restored autosave of " if restored else ""
+        normals = convention_line(doc.sources)
         self.message.emit(
             f"Opened {what}{path.name}: {doc.width}x{doc.height}, {', '.join(doc.schema.names)}"
+            + (f" — {normals}" if normals else "")
         )
         return True
 
@@ -108,13 +111,19 @@ class FileController(QObject):
         if project_path is not None:
             project = load_project(path)
             return project.document, project_path, _editor(project.settings), False
-        source: Path | TextureSet = path
+        try:
+            detected = detect_texture_set(path)
+        except SeveralMaterials as several:
+            chosen = self.prompts.choose_material(several.path or str(path), several.choices)
+            if chosen is None:
+                raise _Declined from None
+            detected = detect_texture_set(path, material=chosen)
         if review:
-            reviewed = self.prompts.review_texture_set(detect_texture_set(path))
+            reviewed = self.prompts.review_texture_set(detected)
             if reviewed is None:
                 raise _Declined
-            source = reviewed  # as the user corrected it
-        material, _report = load_material(source)
+            detected = reviewed  # as the user corrected it
+        material, _report = load_material(detected)
         return Document.from_material(material), None, {}, False
 
     def open_dialog(self) -> None:

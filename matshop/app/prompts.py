@@ -77,6 +77,18 @@ class Prompts:
         finally:
             dialog.deleteLater()
 
+    def choose_material(self, folder: str, choices: list[str]) -> str | None:
+        """Which of the materials a folder holds to open; None when the user cancels."""
+        name, ok = QInputDialog.getItem(
+            self.parent,
+            "Several materials",
+            f"{Path(folder).name} holds {len(choices)} materials. Open which?",
+            choices,
+            0,
+            False,
+        )
+        return name if ok and name else None
+
     def open_file(self, start: str = "") -> Path | None:
         path, _ = QFileDialog.getOpenFileName(self.parent, "Open", start, OPEN_FILTER)
         return Path(path) if path else None

@@ -37,6 +37,8 @@ class ScriptedPrompts(Prompts):
         self.preset: str | None = None
         #: the review of a texture set: returns the set to open (corrected) or None (cancel)
         self.texture_set_fix: Callable[[TextureSet], TextureSet | None] = lambda ts: ts
+        #: which material of a folder holding several to open (None: cancel)
+        self.material_answer: Callable[[list[str]], str | None] = lambda names: names[0]
         #: the answer to the list of files an export will write
         self.export_answer = True
         #: the lines of the last export confirmation
@@ -59,6 +61,10 @@ class ScriptedPrompts(Prompts):
     def review_texture_set(self, ts: TextureSet) -> TextureSet | None:
         self.asked.append(("texture_set", ts.name))
         return self.texture_set_fix(ts)
+
+    def choose_material(self, folder: str, choices: list[str]) -> str | None:
+        self.asked.append(("material", ", ".join(choices)))
+        return self.material_answer(choices)
 
     def open_file(self, start: str = "") -> Path | None:
         self.asked.append(("open_file", start))

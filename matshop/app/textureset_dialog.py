@@ -3,11 +3,15 @@
 One row per file the detection looked at: the maps it will load (which
 parameter slot, the file, its size and depth from the header, hints such as
 a normal map's convention), the alternates it will not use (a DirectX normal
-beside an OpenGL one) and the images whose names matched no slot.
+beside an OpenGL one), the files it recognised but does not load (masks,
+previews, a shallower duplicate: each with the reason) and the images whose
+names matched no slot.
 
 Every row has a *Load as* combo box ("not loaded" and every known slot), so
 the user can reassign a file detected in the wrong slot, load an unrecognised
-or alternate file, or drop one. Open builds the corrected set with
+or alternate file, or drop one; *Add file...* brings in a map from anywhere
+(a shared metallic map in another folder); the *Normal map* control overrides
+the convention the loader would decide. Open builds the corrected set with
 :func:`~matshop.io.textureset.with_slot` and checks it
 (:func:`~matshop.io.textureset.check_texture_set`); a problem (the same slot
 chosen twice, no maps left) is shown as one line and the dialog stays open.
@@ -15,13 +19,18 @@ chosen twice, no maps left) is shown as one line and the dialog stays open.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
     QDialogButtonBox,
+    QFileDialog,
+    QHBoxLayout,
     QLabel,
+    QPushButton,
     QTreeWidget,
     QTreeWidgetItem,
     QVBoxLayout,
@@ -30,12 +39,20 @@ from PySide6.QtWidgets import (
 
 from ..errors import MatshopError
 from ..io.images import probe_image
+from ..io.map_names import parse_map_name
 from ..io.textureset import SLOTS, TextureSet, check_texture_set, known_slots, with_slot
 
 #: Columns of the table.
 COLUMNS = ("Load as", "Detected", "File", "Image", "Notes")
 #: The combo box entry that leaves a file out.
 NOT_LOADED = "not loaded"
+#: The normal-map control's entries: (label, convention or None for the loader's choice)
+NORMAL_CHOICES = (
+    ("Automatic: file name, else a confident guess, else OpenGL", None),
+    ("OpenGL (+Y: glTF, Blender, Unity, Godot, MaterialX)", "opengl"),
+    ("DirectX (-Y: Unreal, some Substance presets)", "directx"),
+)
+IMAGE_FILES = "Images (*.png *.jpg *.jpeg *.tga *.tif *.tiff *.exr *.hdr *.bmp);;All files (*)"
 
 
 def _header(path: Path) -> str:
@@ -57,6 +74,8 @@ def texture_set_rows(ts: TextureSet) -> list[tuple[str, str, str, str]]:
     for slot, paths in sorted(ts.alternates.items()):
         for path in paths:
             rows.append((f"({slot})", path.name, _header(path), f"alternate {slot}: not loaded"))
+    for path, why in ts.not_used.items():
+        rows.append(("—", path.name, _header(path), f"not loaded: {why}"))
     for path in ts.unrecognised:
         rows.append(("—", path.name, _header(path), "name matches no slot: not loaded"))
     return rows
@@ -66,12 +85,18 @@ def _files(ts: TextureSet) -> list[tuple[Path, str | None]]:
     """(file, slot it is loaded as or None) in the order of :func:`texture_set_rows`."""
     files: list[tuple[Path, str | None]] = [(p, s) for s, p in sorted(ts.maps.items())]
     files += [(p, None) for _, paths in sorted(ts.alternates.items()) for p in paths]
+    files += [(p, None) for p in ts.not_used]
     files += [(p, None) for p in ts.unrecognised]
     return files
 
 
-def corrected_set(ts: TextureSet, choices: dict[Path, str | None]) -> TextureSet:
+def corrected_set(
+    ts: TextureSet, choices: dict[Path, str | None], normal_convention: str | None = None
+) -> TextureSet:
     """``ts`` with each file loaded as ``choices[file]`` (None: not loaded).
+
+    Files that ``ts`` does not list (added by the user) may be chosen too.
+    ``normal_convention`` overrides the loader's decision (None: keep it).
 
     Raises MatshopError (one line) when a slot is chosen twice or the result
     cannot be loaded (no maps, a missing file).
@@ -96,25 +121,29 @@ def corrected_set(ts: TextureSet, choices: dict[Path, str | None]) -> TextureSet
         if slot is not None and original.get(path) != slot:
             result = with_slot(result, slot, path)
     check_texture_set(result)
-    return result
+    return replace(result, normal_convention=normal_convention)
 
 
 class TextureSetDialog(QDialog):
-    """Lists a detected texture set; each file's slot can be changed.
+    """Lists a detected texture set; each file's slot can be changed, files added.
 
     Open accepts with the corrected set in :attr:`texture_set`; Cancel keeps
-    the current document.
+    the current document. :attr:`choose_file` asks for a file to add (a file
+    dialog; tests replace it).
     """
 
     def __init__(self, ts: TextureSet, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.detected = ts
         self.texture_set: TextureSet | None = None  #: the corrected set, once accepted
+        self.choose_file: Callable[[], Path | None] = self._file_dialog
         self.setWindowTitle(f"Open texture set — {ts.name}")
         layout = QVBoxLayout(self)
+        unused = len(ts.unrecognised) + len(ts.not_used)
         summary = QLabel(
             f"<b>{ts.name}</b> in {ts.folder}: {len(ts.maps)} maps"
-            + (f", {len(ts.unrecognised)} not recognised" if ts.unrecognised else "")
+            + (f", {unused} other files not loaded" if unused else "")
+            + "".join(f"<br>{note}" for note in ts.notes)
         )
         summary.setWordWrap(True)
         layout.addWidget(summary)
@@ -123,26 +152,35 @@ class TextureSetDialog(QDialog):
         self.table.setHeaderLabels(list(COLUMNS))
         #: file -> its "Load as" combo box, in row order
         self.combos: dict[Path, QComboBox] = {}
-        slots = known_slots()
         for (path, slot), row in zip(_files(ts), texture_set_rows(ts), strict=True):
-            item = QTreeWidgetItem(["", *row])
-            item.setToolTip(2, str(path))
-            self.table.addTopLevelItem(item)
-            combo = QComboBox()
-            combo.addItem(NOT_LOADED, None)
-            for known in slots:
-                combo.addItem(known, known)
-            combo.setCurrentIndex(0 if slot is None else slots.index(slot) + 1)
-            combo.setToolTip(f"Which parameter {path.name} is loaded as")
-            combo.currentIndexChanged.connect(self._changed)
-            self.table.setItemWidget(item, 0, combo)
-            self.combos[path] = combo
+            self._add_row(path, slot, row)
         for column in range(len(COLUMNS) - 1):
             self.table.resizeColumnToContents(column)
         layout.addWidget(self.table, 1)
+        row = QHBoxLayout()
+        self.add_button = QPushButton("Add file…")
+        self.add_button.setToolTip("Load a map from another file (e.g. a shared metallic map)")
+        self.add_button.clicked.connect(self._add_clicked)
+        row.addWidget(self.add_button)
+        row.addStretch(1)
+        row.addWidget(QLabel("Normal map:"))
+        self.normal_convention = QComboBox()
+        for label, convention in NORMAL_CHOICES:
+            self.normal_convention.addItem(label, convention)
+        named = ts.hints.get("normal", {}).get("convention")
+        self.normal_convention.setToolTip(
+            "Green channel convention of the normal map"
+            + (f"; its file name says {named}" if named else "; its file name does not say")
+        )
+        if ts.normal_convention is not None:
+            self.normal_convention.setCurrentIndex(
+                self.normal_convention.findData(ts.normal_convention)
+            )
+        row.addWidget(self.normal_convention)
+        layout.addLayout(row)
         note = QLabel(
             "A file in the wrong slot or missing? Pick what it is under <i>Load as</i>; "
-            "<i>not loaded</i> leaves it out."
+            "<i>not loaded</i> leaves it out; <i>Add file…</i> brings in one from elsewhere."
         )
         note.setObjectName("hint")
         note.setWordWrap(True)
@@ -159,7 +197,45 @@ class TextureSetDialog(QDialog):
         buttons.accepted.connect(self.accept)
         buttons.rejected.connect(self.reject)
         layout.addWidget(buttons)
-        self.resize(860, 400)
+        self.resize(860, 420)
+
+    def _add_row(self, path: Path, slot: str | None, row: tuple[str, str, str, str]) -> None:
+        item = QTreeWidgetItem(["", *row])
+        item.setToolTip(2, str(path))
+        self.table.addTopLevelItem(item)
+        combo = QComboBox()
+        combo.addItem(NOT_LOADED, None)
+        for known in known_slots():
+            combo.addItem(known, known)
+        combo.setCurrentIndex(0 if slot is None else combo.findData(slot))
+        combo.setToolTip(f"Which parameter {path.name} is loaded as")
+        combo.currentIndexChanged.connect(self._changed)
+        self.table.setItemWidget(item, 0, combo)
+        self.combos[path] = combo
+
+    def add_file(self, path: Path) -> None:
+        """List ``path`` too, loaded as the slot its name suggests if that slot is free."""
+        path = Path(path)
+        if path in self.combos:
+            return
+        parsed = parse_map_name(path)
+        suggested = parsed.slot if parsed is not None and not parsed.extra else None
+        if suggested in self.choices().values():
+            suggested = None
+        hint = f"added; its name suggests {parsed.slot}" if parsed else "added"
+        self._add_row(path, suggested, (suggested or "—", path.name, _header(path), hint))
+        self._changed()
+
+    def _add_clicked(self) -> None:
+        path = self.choose_file()
+        if path is not None:
+            self.add_file(path)
+
+    def _file_dialog(self) -> Path | None:
+        name, _ = QFileDialog.getOpenFileName(
+            self, "Add a map", str(self.detected.folder), IMAGE_FILES
+        )
+        return Path(name) if name else None
 
     def choices(self) -> dict[Path, str | None]:
         """file -> the slot chosen for it (None: not loaded)."""
@@ -174,8 +250,8 @@ class TextureSetDialog(QDialog):
         raise KeyError(file_name)
 
     def corrected(self) -> TextureSet:
-        """The set as the combo boxes say; MatshopError (one line) when it cannot load."""
-        return corrected_set(self.detected, self.choices())
+        """The set as the controls say; MatshopError (one line) when it cannot load."""
+        return corrected_set(self.detected, self.choices(), self.normal_convention.currentData())
 
     def _changed(self) -> None:
         self.error.hide()
