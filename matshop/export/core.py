@@ -15,7 +15,6 @@ or a layered document flattened through ``from_edit``). The steps:
 from __future__ import annotations
 
 import os
-import re
 import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -27,13 +26,12 @@ from ..errors import MatshopError
 from ..io.fileset import PendingFile, check_targets, write_all
 from ..io.images import probe_image, write_image
 from ..io.normal_convention import CONVENTION_ATTRIBUTE
+from ..io.safe_names import safe_stem
 from ..material import Material
 from .pack import is_written, pack_output, plan_missing
 from .presets import OutputSpec, Preset, load_preset
 from .quantize import quantize
 from .resize import is_power_of_two, resize_material, target_size
-
-_SAFE_NAME = re.compile(r"[^A-Za-z0-9_.\-]+")
 
 
 @dataclass(frozen=True)
@@ -79,8 +77,8 @@ class ExportSummary:
 
 
 def file_safe_name(name: str) -> str:
-    """The ``{material}`` of exported file names: ``name`` with unsafe characters replaced."""
-    return _SAFE_NAME.sub("_", name).strip("._") or "material"
+    """The ``{material}`` of exported file names (:func:`matshop.io.safe_names.safe_stem`)."""
+    return safe_stem(name)
 
 
 def describe_output(output: OutputSpec) -> str:

@@ -48,6 +48,7 @@ def build_document(
 ) -> mx.Document:
     """A MaterialX document for the written ``outputs`` (``files``: channel -> file name)."""
     doc = mx.createDocument()
+    name = mx.createValidName(name)  # element names allow fewer characters than file names
     graph = doc.addNodeGraph(f"NG_{name}")
     shader = doc.addNode("gltf_pbr", f"SR_{name}", "surfaceshader")
     images: dict[tuple[str, str], mx.Node] = {}
@@ -55,7 +56,7 @@ def build_document(
     def image(output: OutputSpec, kind: str) -> mx.Node:
         key = (output.channel, kind)
         if key not in images:
-            node = graph.addNode("image", f"{output.channel}_{kind}", kind)
+            node = graph.addNode("image", mx.createValidName(f"{output.channel}_{kind}"), kind)
             file = node.addInput("file", "filename")
             file.setValueString(files[output.channel])
             if kind in ("color3", "color4") and output.color_space == "srgb" and _is_color(output):

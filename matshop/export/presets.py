@@ -50,6 +50,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import MatshopError
+from ..io.safe_names import file_name_problem, safe_stem
 
 #: parameters whose values are display-encoded colors
 COLOR_PARAMETERS = frozenset({"base_color", "diffuse", "specular", "emissive"})
@@ -124,8 +125,12 @@ class OutputSpec:
         return tuple(dict.fromkeys(names))
 
     def file_for(self, material: str, preset: str) -> str:
+        # the template was checked on load; every value put into it is a safe stem
         return self.file_name.format(
-            material=material, channel=self.channel, ext=self.extension, preset=preset
+            material=safe_stem(material),
+            channel=self.channel,
+            ext=self.extension,
+            preset=safe_stem(preset, "preset"),
         )
 
 
@@ -227,8 +232,8 @@ def parse_preset(data: dict[str, Any], *, origin: str = "built-in") -> Preset:
 
 def _parse_output(entry: dict[str, Any], default_template: str) -> OutputSpec:
     channel = entry.get("channel")
-    if not isinstance(channel, str) or not re.fullmatch(r"[A-Za-z0-9_.\-]+", channel):
-        raise ValueError("needs a 'channel' name of letters, digits, _ . -")
+    if not isinstance(channel, str) or not re.fullmatch(r"[A-Za-z0-9_\-][A-Za-z0-9_.\-]*", channel):
+        raise ValueError("needs a 'channel' name of letters, digits, _ . - (not leading .)")
     template = str(entry.get("fileName", default_template))
     _check_template(template)
     fmt = str(entry.get("fileFormat", "png")).lower()
@@ -267,9 +272,19 @@ def _parse_output(entry: dict[str, Any], default_template: str) -> OutputSpec:
         color_space=color_space,
         channels=channels,
         source=whole,
-        optional=bool(entry.get("optional", False)),
-        dithering=bool(entry.get("dithering", True)),
+        optional=_flag(entry, "optional", False),
+        dithering=_flag(entry, "dithering", True),
     )
+
+
+def _flag(entry: dict[str, Any], key: str, default: bool) -> bool:
+    """A true/false setting; the string "false" is not true (JSON and TOML have booleans)."""
+    value = entry.get(key, default)
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, str) and value.strip().lower() in ("true", "false"):
+        return value.strip().lower() == "true"
+    raise ValueError(f"{key!r} must be true or false, got {str(value)[:40]!r}")
 
 
 def _parse_channel(entry: Any) -> ChannelSpec:
@@ -309,7 +324,12 @@ def _check_template(template: str) -> None:
             f"fileName {template!r} uses unknown fields {sorted(unknown)}; "
             f"known: {', '.join('{' + f + '}' for f in sorted(_TEMPLATE_FIELDS))}"
         )
-    if "/" in template or "\\" in template or template.startswith("."):
-        raise ValueError(f"fileName {template!r} must be a plain file name")
+    try:
+        example = template.format(material="m", channel="c", ext="png", preset="p")
+    except (ValueError, IndexError, KeyError, AttributeError) as exc:
+        raise ValueError(f"fileName {template[:60]!r} is not a valid template ({exc})") from None
+    problem = file_name_problem(example)
+    if problem is not None or example.startswith("."):
+        raise ValueError(f"fileName {template[:60]!r} must make a plain file name")
     if "{ext}" not in template and not re.search(r"\.[A-Za-z]+$", template):
         raise ValueError(f"fileName {template!r} needs an extension or {{ext}}")

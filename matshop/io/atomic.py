@@ -20,9 +20,11 @@ def temp_path_for(path: Path) -> Path:
     """A fresh hidden name beside ``path`` that keeps its extension last.
 
     ``dir/name.png`` -> ``dir/.name.tmp-1a2b3c4d.png`` (OpenImageIO picks the
-    format from the extension, so the real one must stay at the end).
+    format from the extension, so the real one must stay at the end). The stem
+    is cut short so that a target name near the file system's limit still has a
+    temp name.
     """
-    return path.with_name(f".{path.stem}.tmp-{secrets.token_hex(4)}{path.suffix}")
+    return path.with_name(f".{path.stem[:100]}.tmp-{secrets.token_hex(4)}{path.suffix[:20]}")
 
 
 @contextlib.contextmanager

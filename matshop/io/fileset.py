@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import MatshopError
+from .safe_names import check_file_name
 
 
 @dataclass(frozen=True)
@@ -38,6 +39,8 @@ def check_targets(out_dir: Path, names: Sequence[str], *, force: bool) -> None:
     """Refuse clashes with existing files (without ``force``) and bad folders."""
     if out_dir.exists() and not out_dir.is_dir():
         raise MatshopError("output exists and is not a folder", out_dir)
+    for name in names:  # the last gate: no name may lead out of out_dir
+        check_file_name(name, out_dir)
     if len(set(names)) != len(names):
         raise MatshopError("the export would write one file name twice", out_dir)
     existing = [n for n in names if (out_dir / n).exists()]

@@ -28,6 +28,7 @@ from .normal_convention import (
     DEFAULT_CONVENTION,
     decide_convention,
 )
+from .safe_names import safe_stem
 from .textureset import PACKED_CHANNELS, TextureSet, check_texture_set, resolve_texture_set
 
 #: slots whose first channel is a scalar parameter
@@ -319,7 +320,7 @@ def save_material(
     """
     files = [
         PendingFile(
-            f"{material.name}_{suffix}",
+            f"{safe_stem(material.name)}_{suffix}",
             functools.partial(_write_map, array=array, depth=depth, attrs=attrs),
         )
         for suffix, array, depth, attrs in _file_plan(material)
