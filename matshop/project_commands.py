@@ -54,6 +54,7 @@ def cmd_new(args: argparse.Namespace) -> int:
     path: Path = args.project
     if path.exists() and not args.force:
         raise MatshopError("already exists (use --force to overwrite)", path)
+    _refuse_to_replace_autosave(path)
     if args.source is not None:
         from .io.material_io import load_material
 
@@ -77,9 +78,23 @@ def cmd_new(args: argparse.Namespace) -> int:
     return 0
 
 
-def _open(path: Path) -> tuple[Document, History, dict]:
-    project = load_project(path)
+def _refuse_to_replace_autosave(path: Path) -> None:
+    """A save removes the project's autosave: never do that to one newer than the project."""
     recovery = find_recovery(path)
+    if recovery is not None:
+        raise MatshopError(
+            f"has a newer autosave ({recovery.name}) that saving would discard: "
+            f"`matshop recover {path}` restores it, or delete it to discard it",
+            path,
+        )
+
+
+def _open(path: Path, *, for_writing: bool = True) -> tuple[Document, History, dict]:
+    """Load a project; a verb that will save it first makes sure no autosave is lost."""
+    if for_writing:
+        _refuse_to_replace_autosave(path)
+    project = load_project(path)
+    recovery = None if for_writing else find_recovery(path)
     if recovery is not None:
         print(
             f"matshop: note: {path} has a newer autosave ({recovery.name}); "
@@ -225,7 +240,7 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
 
 
 def cmd_layer_list(args: argparse.Namespace) -> int:
-    doc, _, _ = _open(args.project)
+    doc, _, _ = _open(args.project, for_writing=False)
     print(f"{args.project}: {doc.width}x{doc.height}, {', '.join(doc.schema.names)}")
     for index, layer in enumerate(doc):
         facts = [layer.kind, f"opacity {layer.opacity:g}", layer.blend]
@@ -320,7 +335,7 @@ def cmd_flatten(args: argparse.Namespace) -> int:
     from .io.material_io import save_material
     from .progress import progress_bar
 
-    doc, _, _ = _open(args.project)
+    doc, _, _ = _open(args.project, for_writing=False)
     material = doc.flatten_physical()
     with progress_bar("writing") as report:
         written = save_material(material, args.output, overwrite=args.force, progress=report)

@@ -8,6 +8,20 @@ import sys
 _exit_status = 0
 
 
+def pytest_addoption(parser) -> None:
+    parser.addoption(
+        "--long",
+        action="store_true",
+        help="run the fuzzers long (examples x MATSHOP_FUZZ_FACTOR, default 50)",
+    )
+
+
+def pytest_configure(config) -> None:
+    # before test modules are imported: their @settings read it (tests/fuzz_settings.py)
+    if config.getoption("--long"):
+        os.environ["MATSHOP_FUZZ_LONG"] = "1"
+
+
 def pytest_sessionfinish(session, exitstatus) -> None:
     global _exit_status
     _exit_status = int(exitstatus)

@@ -179,6 +179,10 @@ def _str(value: Any, where: str) -> str:
         raise FormatProblem(f"{where} must be a string, got {_type_name(value)}")
     if len(value) > MAX_STRING:
         raise FormatProblem(f"{where} is longer than {MAX_STRING} characters")
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:  # a lone surrogate (JSON "\ud800"): no save could keep it
+        raise FormatProblem(f"{where} is not valid Unicode text") from None
     return value
 
 

@@ -155,9 +155,11 @@ def dump_manifest(manifest: dict) -> bytes:
     """The manifest as compact UTF-8 JSON (no NaN: the reader refuses it)."""
     try:
         text = json.dumps(manifest, separators=(",", ":"), allow_nan=False, ensure_ascii=False)
+        return text.encode("utf-8")
+    except UnicodeEncodeError:  # a lone surrogate, e.g. from a non-UTF-8 file name
+        raise FormatProblem("the document holds a name that is not valid Unicode text") from None
     except (TypeError, ValueError) as exc:
         raise FormatProblem(f"the document holds a value JSON cannot store ({exc})") from None
-    return text.encode("utf-8")
 
 
 def _check_json(value: Any, what: str) -> None:

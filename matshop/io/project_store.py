@@ -96,6 +96,7 @@ def write_project(
     try:
         manifest, payloads = encode(document, settings)
         text = dump_manifest(manifest)
+        _check_loadable(manifest, text, payloads)
     except FormatProblem as exc:  # before the temp file exists: nothing to clean up
         raise MatshopError(f"cannot save: {exc}", path) from None
     with atomic_target(path) as tmp:
@@ -103,6 +104,20 @@ def write_project(
             archive.writestr(_entry(MANIFEST_NAME, len(text)), text)
             for payload in payloads:
                 _write_payload(archive, payload)
+
+
+def _check_loadable(manifest: dict, text: bytes, payloads: list[Payload]) -> None:
+    """Refuse to save what :func:`read_project` would refuse to load: the same checks
+    (names, ids, counts, sizes) run on the manifest before a byte is written."""
+    if len(text) > MAX_MANIFEST_BYTES:
+        raise FormatProblem(f"{MANIFEST_NAME} would be {len(text)} bytes, over the limit")
+    parse_manifest(manifest)
+    total = sum(payload.nbytes for payload in payloads)
+    if total > DEFAULT_MAX_BYTES:
+        raise FormatProblem(
+            f"its layers take {total / 2**30:.1f} GiB, more than a project may load "
+            f"({DEFAULT_MAX_BYTES / 2**30:.1f} GiB)"
+        )
 
 
 def _entry(name: str, size: int) -> zipfile.ZipInfo:
