@@ -63,9 +63,20 @@ def test_curve_points_stay_valid_for_the_engine() -> None:
 def test_histogram_maps_values_like_the_curves_op() -> None:
     material, _ = load_material(SAMPLE)
     edit = material.to_edit().data
-    counts = edit_histogram(edit, material.schema, ["metallic"], bins=4)
+    counts = edit_histogram(edit, material.schema, ["metallic"], bins=4, remap="space")
     # metallic is 0 or 1 in the sample: only the end bins are filled
     assert counts[0] > 0 and counts[-1] > 0 and counts[1:-1].sum() == 0 and counts.max() == 1.0
+    # remap="data": the median at 0.5, the range median -/+ its larger reach to the
+    # 0.5th / 99.5th percentile (computed here), so 0 and 1 land in those bins
+    values = edit[..., material.schema.edit_slices["metallic"]].reshape(-1).astype(np.float64)
+    low, median, high = np.percentile(values, [0.5, 50, 99.5])
+    reach = max(median - low, high - median)
+    want = np.zeros(4)
+    for v in (0.0, 1.0):
+        t = (v - (median - reach)) / (2 * reach)
+        want[min(int(t * 4), 3)] += np.count_nonzero(values == v)
+    counts = edit_histogram(edit, material.schema, ["metallic"], bins=4)
+    np.testing.assert_allclose(counts, want / want.max())
 
 
 def test_curves_dialog_adds_a_layer_one_step_per_drag_and_cancels_exactly(window, qtbot) -> None:
@@ -79,6 +90,9 @@ def test_curves_dialog_adds_a_layer_one_step_per_drag_and_cancels_exactly(window
     layer = window.session.active_layer
     assert isinstance(layer, FilterLayer) and layer.op == "curves"
     assert window.session.steps == steps + 1  # the added layer is one step
+    # the dialog says what [0, 1] stands for: the values' own range by default
+    assert dialog.range_label.text().startswith("0 → 1 spans (data): ")
+    assert "normal |v| [" in dialog.range_label.text()
     editor, model = dialog.editor, dialog.model
     viewport = editor.viewport()
 

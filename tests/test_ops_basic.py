@@ -117,9 +117,42 @@ def test_identity_curve_is_an_exact_no_op() -> None:
 
 
 def test_two_point_curve_is_a_scale_and_matches_the_scale_op() -> None:
+    # over the space's fixed range (0 at the origin) a straight curve through 0 is a scale
     edit = random_material().to_edit()
-    out = curves(edit.data, points=[(0, 0), (1, 0.5)], schema=edit.schema)
+    out = curves(edit.data, points=[(0, 0), (1, 0.5)], schema=edit.schema, remap="space")
     assert np.allclose(out, scale(edit.data, factor=0.5), atol=1e-6)
+
+
+def _data_range(values: np.ndarray, clip: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """remap="data" written out: the median at 0.5, the robust range inside [0, 1]."""
+    low, median, high = np.percentile(values, [clip, 50.0, 100.0 - clip], axis=0)
+    reach = np.maximum(median - low, high - median)
+    return median - reach, 2.0 * reach
+
+
+def test_curves_over_the_data_range_follow_its_percentiles() -> None:
+    """remap="data": [0, 1] spans median -/+ the larger distance to the 0.5th/99.5th
+    percentile, per channel (of |v| for a frame), and the curve continues with slope 1
+    beyond; truth from numpy's percentiles and the curve's formula."""
+    edit = random_material().to_edit()
+    data = edit.data.astype(np.float64)
+    out = curves(edit.data, points=[(0, 0), (1, 0.5)], schema=edit.schema)
+
+    def halved(t: np.ndarray) -> np.ndarray:  # the curve t -> t / 2, slope 1 outside
+        return np.where(t < 0, t, np.where(t > 1, 0.5 + (t - 1), 0.5 * t))
+
+    color = edit.schema.edit_slices["base_color"]
+    lo, span = _data_range(data[..., color].reshape(-1, 3))
+    want = lo + span * halved((data[..., color] - lo) / span)
+    np.testing.assert_allclose(out[..., color], want, atol=1e-5)
+    frame = edit.schema.edit_slices["normal"]
+    m = np.linalg.norm(data[..., frame], axis=-1)
+    lo, span = _data_range(m.reshape(-1))
+    want = np.maximum(lo + span * halved((m - lo) / span), 0.0)
+    np.testing.assert_allclose(np.linalg.norm(out[..., frame], axis=-1), want, atol=1e-5)
+    # the data's range differs from the space's: the two remaps really differ
+    space = curves(edit.data, points=[(0, 0), (1, 0.5)], schema=edit.schema, remap="space")
+    assert not np.allclose(out, space, atol=1e-3)
 
 
 def test_curve_lut_follows_the_control_points_and_is_monotone() -> None:
@@ -135,7 +168,11 @@ def test_vector_curves_keep_direction_and_remap_magnitude() -> None:
     edit = random_material().to_edit()
     frame = edit.schema.edit_slices["normal"]
     out = curves(
-        edit.data, points=[(0, 0), (0.5, 0.25), (1, 0.5)], schema=edit.schema, params="normal"
+        edit.data,
+        points=[(0, 0), (0.5, 0.25), (1, 0.5)],
+        schema=edit.schema,
+        params="normal",
+        remap="space",
     )
     before, after = edit.data[..., frame], out[..., frame]
     # same direction: the cross product vanishes
@@ -148,12 +185,21 @@ def test_vector_curves_keep_direction_and_remap_magnitude() -> None:
 
 def test_levels_match_the_formula_per_channel() -> None:
     edit = random_material().to_edit()
-    out = levels(
-        edit.data, in_black=0.1, in_white=0.8, gamma=2.0, schema=edit.schema, params="metallic"
-    )
+    kwargs = {"in_black": 0.1, "in_white": 0.8, "gamma": 2.0, "params": "metallic"}
+    out = levels(edit.data, schema=edit.schema, remap="space", **kwargs)
     m = edit.schema.edit_slices["metallic"]
     x = np.clip((edit.data[..., m].astype(np.float64) - 0.1) / 0.7, 0, 1) ** 0.5
     assert np.abs(out[..., m] - x).max() < 1e-3
+    # over the data's range (outliers: below the 2nd, above the 98th percentile)
+    out = levels(edit.data, schema=edit.schema, clip_percent=2.0, **kwargs)
+    v = edit.data[..., m].astype(np.float64)
+    lo, span = _data_range(v.reshape(-1), 2.0)
+    t = (v - lo) / span
+    inside = lo + span * np.clip((t - 0.1) / 0.7, 0, 1) ** 0.5
+    x = np.where(t < 0, lo + span * t, np.where(t > 1, lo + span * t, inside))
+    # the 4096-entry table is coarse only at the black point, where x^0.5 is vertical
+    assert np.abs(out[..., m] - x).max() < 5e-3
+    assert np.abs(out[..., m] - x).mean() < 1e-4
 
 
 # ---------------------------------------------------------------- blur

@@ -40,7 +40,9 @@ def test_masked_scale_is_the_lerp_of_the_scaled_values(params) -> None:
 def test_lut_kernel_matches_interpolation_with_linear_extension() -> None:
     edit = edit_array()
     lut = curve_lut([(0, 0), (0.25, 0.6), (1, 1)]).astype(np.float64)
-    out = apply_lut(edit, lut, schema=SCHEMA, params=["base_color"], mask=None, op="curves")
+    out = apply_lut(
+        edit, lut, schema=SCHEMA, params=["base_color"], mask=None, op="curves", remap="space"
+    )
     grid = np.linspace(0, 1, lut.size)
     value = edit[..., :3].astype(np.float64)
     expected = np.interp(value, grid, lut)

@@ -32,7 +32,7 @@ from PySide6.QtWidgets import (
 )
 
 from ..layers import FilterLayer
-from ..ops.curves import IDENTITY_POINTS
+from ..ops.curves import IDENTITY_POINTS, curve_ranges
 from ..tools.settings import short_label
 from . import theme
 from .curve_points import CurvePoints
@@ -204,6 +204,11 @@ class CurvesDialog(QDialog):
         self.readout = QLabel("")
         self.readout.setObjectName("hint")
         layout.addWidget(self.readout)
+        # what [0, 1] stands for (the op's remap: the values' own range by default)
+        self.range_label = QLabel("")
+        self.range_label.setObjectName("hint")
+        self.range_label.setWordWrap(True)
+        layout.addWidget(self.range_label)
         hint = QLabel("Click to add a point; drag it; drag it off or double-click to remove it.")
         hint.setObjectName("hint")
         layout.addWidget(hint)
@@ -280,11 +285,18 @@ class CurvesDialog(QDialog):
     def _update_histogram(self) -> None:
         doc = self.session.doc
         name = self.parameter.currentData()
+        layer = self.layer()
+        remap = {k: layer.op_params[k] for k in ("remap", "clip_percent")} if layer else {}
         counts = None
+        text = ""
         if doc is not None and self._sample is not None:
-            counts = edit_histogram(
-                self._sample, doc.schema, None if not name else [name], HISTOGRAM_BINS
+            params = None if not name else [name]
+            counts = edit_histogram(self._sample, doc.schema, params, HISTOGRAM_BINS, **remap)
+            ranges = curve_ranges(self._sample, schema=doc.schema, params=params, **remap)
+            text = f"0 → 1 spans ({remap.get('remap', 'data')}): " + "; ".join(
+                r.describe() for r in ranges
             )
+        self.range_label.setText(text)
         self.editor.view.set_histogram(counts)
 
     # -- changes -----------------------------------------------------------------------

@@ -452,6 +452,9 @@ def _parse_filter(entry: dict, spec: LayerSpec, seen: set[str]) -> None:
             raise FormatProblem(f"{where} {key}: only an array stored in the project is allowed")
         else:
             spec.op_params[key] = value
+    for param in op.params:  # saved before the parameter existed: keep the old behaviour
+        if param.name not in params and param.missing is not None:
+            spec.op_params[param.name] = param.missing
     # values are bound (validated) by the op once the arrays are read
 
 

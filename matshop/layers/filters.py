@@ -15,9 +15,10 @@ from typing import Any
 
 from ..ops import OpError, OpSpec, get_op
 
-#: Reach in texels for neighbourhood ops whose footprint is known exactly.
-#: Pointwise ops (``neighbourhood=False``) need no entry.
-_REACH: dict[str, Callable[[Mapping[str, Any]], int]] = {}
+#: Reach in texels for ops whose footprint is known exactly (None: global).
+#: Pointwise ops (``neighbourhood=False``) need no entry unless a parameter makes
+#: them global (curves and levels over the image's own value range).
+_REACH: dict[str, Callable[[Mapping[str, Any]], int | None]] = {}
 
 
 def _blur_reach(values: Mapping[str, Any]) -> int:
@@ -28,6 +29,14 @@ def _blur_reach(values: Mapping[str, Any]) -> int:
 
 
 _REACH["blur"] = _blur_reach
+
+
+def _tone_reach(values: Mapping[str, Any]) -> int | None:
+    # remap="data" reads the value range of the whole image below: global
+    return 0 if values.get("remap") == "space" else None
+
+
+_REACH["curves"] = _REACH["levels"] = _tone_reach
 
 
 def bind_filter(op: str, values: Mapping[str, Any] | None = None) -> tuple[OpSpec, dict[str, Any]]:
@@ -46,7 +55,7 @@ def bind_filter(op: str, values: Mapping[str, Any] | None = None) -> tuple[OpSpe
 def filter_reach(op: str, values: Mapping[str, Any]) -> int | None:
     """Texels of context the op reads around each output texel; None for the whole image."""
     spec = get_op(op)
-    if not spec.neighbourhood:
-        return 0
     reach = _REACH.get(op)
-    return None if reach is None else reach(values)
+    if reach is not None:
+        return reach(values)
+    return 0 if not spec.neighbourhood else None

@@ -2,10 +2,13 @@
 
 A curve maps a magnitude in [0, 1] to a magnitude. Scalars and color
 channels go through it per channel (``p~' = curve(p~)``, after remapping the
-parameter's edit range to [0, 1]); vector parameters (frame rotations,
-inverse CDFs) are scaled along themselves, ``p~' = p~ curve(|p~|) / |p~|``,
-so a frame keeps its tilt direction and a lobe its shape family. The curve
-is a monotone cubic through the control points, sampled into a uniform
+parameter's range to [0, 1]); vector parameters (frame rotations, inverse
+CDFs) are scaled along themselves, ``p~' = p~ curve(|p~|) / |p~|``, so a
+frame keeps its tilt direction and a lobe its shape family. Which range maps
+to [0, 1] is the ``remap`` parameter (:mod:`.tone_range`): by default the
+values' own robust range in this image (so an S-curve raises the contrast of
+what is there, as in the paper's Fig. 7(b)), or the space's fixed range. The
+curve is a monotone cubic through the control points, sampled into a uniform
 lookup table: one fused pass per texel.
 """
 
@@ -20,6 +23,7 @@ from ..material import Schema
 from ._kernels import lut_channels, lut_vector
 from .selection import Selection
 from .spec import OpSpec, ParamSpec
+from .tone_range import CLIP_PERCENT, REMAPS, Remap, ToneRange, tail_slope, tone_ranges
 
 #: LUT entries over [0, 1]; the PCHIP's linear-interpolation error at this
 #: density is below 1e-6 for any curve with moderate bends.
@@ -67,24 +71,49 @@ def apply_lut(
     params: Sequence[str] | str | None,
     mask: np.ndarray | None,
     op: str,
+    remap: Remap = "data",
+    clip_percent: float = CLIP_PERCENT,
 ) -> np.ndarray:
     """Run a [0, 1] -> [0, 1] table over the selected parameters (per channel or by magnitude)."""
     selection = Selection(edit, schema=schema, params=params, mask=mask, op=op)
     block = selection.take(edit)
+    ranges = tone_ranges(block, selection.groups, remap=remap, clip_percent=clip_percent)
     result = np.empty(block.shape, dtype=np.float32)
     lut = np.ascontiguousarray(lut, dtype=np.float64)
     # every per-channel group in one pass; each vector group in its own
-    scalar = [g for g in selection.groups if g.curve_mode != "vector"]
+    pairs = list(zip(selection.groups, ranges, strict=True))
+    scalar = [(g, r) for g, r in pairs if not r.vector]
     if scalar:
-        channels = np.concatenate([g.channels for g in scalar])
-        lo = np.concatenate([np.full(len(g.channels), g.edit_range.lo) for g in scalar])
-        span = np.concatenate([np.full(len(g.channels), g.edit_range.span) for g in scalar])
-        lut_channels(block, channels, lo, span, lut, result)
-    for group in selection.groups:
-        if group.curve_mode == "vector":
+        channels = np.concatenate([g.channels for g, _ in scalar])
+        lo = np.concatenate([r.lo for _, r in scalar])
+        span = np.concatenate([r.span for _, r in scalar])
+        lut_channels(block, channels, lo, span, lut, tail_slope(remap), result)
+    for group, tone in pairs:
+        if tone.vector:
             quadrature = group.quadrature.astype(np.float64)
-            lut_vector(block, group.channels, quadrature, lut, group.edit_range.span, result)
+            lo, span = float(tone.lo[0]), float(tone.span[0])
+            tail = tail_slope(remap)
+            lut_vector(block, group.channels, quadrature, lut, lo, span, tail, result)
     return selection.put(edit, result)
+
+
+def curve_ranges(
+    edit: np.ndarray,
+    *,
+    schema: Schema | None = None,
+    params: Sequence[str] | str | None = None,
+    remap: Remap = "data",
+    clip_percent: float = CLIP_PERCENT,
+) -> list[ToneRange]:
+    """The interval [0, 1] of a curve (or levels) stands for, per channel group of ``edit``.
+
+    What :func:`curves` and :func:`levels` use with the same arguments; the
+    curves dialog shows it under the plot.
+    """
+    selection = Selection(edit, schema=schema, params=params, mask=None, op="curves")
+    return tone_ranges(
+        selection.take(edit), selection.groups, remap=remap, clip_percent=clip_percent
+    )
 
 
 def curves(
@@ -94,15 +123,27 @@ def curves(
     schema: Schema | None = None,
     params: Sequence[str] | str | None = None,
     mask: np.ndarray | None = None,
+    remap: Remap = "data",
+    clip_percent: float = CLIP_PERCENT,
 ) -> np.ndarray:
     """Apply a tone curve given by control points ``[(x, y), ...]`` in [0, 1].
 
-    The identity curve returns an exact copy (no rounding through the table).
+    ``remap`` chooses what [0, 1] spans (:mod:`.tone_range`). The identity
+    curve returns an exact copy (no rounding through the table).
     """
     if tuple(map(tuple, points)) == IDENTITY_POINTS:
         Selection(edit, schema=schema, params=params, mask=mask, op="curves")  # validate
         return np.array(edit, dtype=np.float32, copy=True)
-    return apply_lut(edit, curve_lut(points), schema=schema, params=params, mask=mask, op="curves")
+    return apply_lut(
+        edit,
+        curve_lut(points),
+        schema=schema,
+        params=params,
+        mask=mask,
+        op="curves",
+        remap=remap,
+        clip_percent=clip_percent,
+    )
 
 
 def levels(
@@ -116,31 +157,71 @@ def levels(
     schema: Schema | None = None,
     params: Sequence[str] | str | None = None,
     mask: np.ndarray | None = None,
+    remap: Remap = "data",
+    clip_percent: float = CLIP_PERCENT,
 ) -> np.ndarray:
-    """Input black/white points, gamma, output black/white points (all in [0, 1] of the range)."""
+    """Input black/white points, gamma, output black/white points (all in [0, 1] of the range).
+
+    ``remap`` chooses the range (:mod:`.tone_range`).
+    """
     from .spec import OpError
 
     if in_white <= in_black:
         raise OpError(f"levels: in_white ({in_white:g}) must exceed in_black ({in_black:g})")
     lut = levels_lut(in_black, in_white, gamma, out_black, out_white)
-    return apply_lut(edit, lut, schema=schema, params=params, mask=mask, op="levels")
+    return apply_lut(
+        edit,
+        lut,
+        schema=schema,
+        params=params,
+        mask=mask,
+        op="levels",
+        remap=remap,
+        clip_percent=clip_percent,
+    )
 
 
 _UNIT = (0.0, 1.0)
 
+#: the parameters both ops share: which range [0, 1] spans
+REMAP_PARAMS = (
+    ParamSpec(
+        "remap",
+        "choice",
+        "data",
+        "what [0, 1] spans: data = the values in this image (median at 0.5, the "
+        "robust range inside; per channel, |v| for frames and lobes), space = the "
+        "space's fixed range",
+        choices=REMAPS,
+        missing="space",
+    ),
+    ParamSpec(
+        "clip_percent",
+        "float",
+        CLIP_PERCENT,
+        "remap=data: percentiles below this and above 100 minus it are outliers "
+        "(left out of the range, passed through with slope 1)",
+        unit="%",
+        hard_range=(0.0, 25.0),
+        ui_range=(0.0, 5.0),
+    ),
+)
+
 CURVES_SPEC = OpSpec(
     name="curves",
     label="Curves",
-    summary="tone curve per channel for colors/scalars, by magnitude for frames and lobes",
+    summary="tone curve over each parameter's own robust range in the image (or the "
+    "space's fixed range): per channel for colors/scalars, by magnitude for frames and lobes",
     function=curves,
     params=(
         ParamSpec(
             "points",
             "points",
             IDENTITY_POINTS,
-            "control points x,y;x,y;... in [0, 1] of the parameter's edit range",
+            "control points x,y;x,y;... in [0, 1] of the range set by remap",
             hard_range=(0.0, 1.0),
         ),
+        *REMAP_PARAMS,
     ),
     linear=False,
 )
@@ -148,7 +229,8 @@ CURVES_SPEC = OpSpec(
 LEVELS_SPEC = OpSpec(
     name="levels",
     label="Levels",
-    summary="black point, white point and gamma in edit space",
+    summary="black point, white point and gamma over each parameter's own robust range "
+    "in the image (or the space's fixed range)",
     function=levels,
     params=(
         ParamSpec("in_black", "float", 0.0, "input black point", hard_range=_UNIT, ui_range=_UNIT),
@@ -172,6 +254,7 @@ LEVELS_SPEC = OpSpec(
             hard_range=(-10.0, 10.0),
             ui_range=_UNIT,
         ),
+        *REMAP_PARAMS,
     ),
     linear=False,
 )

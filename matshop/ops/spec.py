@@ -46,6 +46,9 @@ class ParamSpec:
     ui_range: tuple[float, float] | None = None
     choices: tuple[str, ...] = ()
     required: bool = False
+    #: the value a saved filter layer that predates this parameter gets (keeps old
+    #: projects looking as they did); None: the default
+    missing: Any = None
 
     def parse(self, text: str, op: str) -> Any:
         """Parse a command-line ``key=value`` value into this parameter's type."""

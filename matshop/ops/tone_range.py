@@ -1,0 +1,132 @@
+"""The interval of edit values a tone curve's [0, 1] axis spans, per channel group.
+
+Curves and levels map each parameter to [0, 1] before the curve and back after
+it. Two choices (the ops' ``remap`` parameter):
+
+- ``"data"`` (default): by the values *in this image*, robustly (the paper: "the
+  length of each parameter ... appropriately remapped in the [0, 1] range"). Per
+  channel for colors and scalars, of the (quadrature-weighted) magnitude for
+  vectors (frames, inverse CDFs): the median ``m`` goes to 0.5 and
+  ``[m - r, m + r]`` to [0, 1], ``r`` the larger distance from ``m`` to the
+  ``clip_percent``-th and ``(100 - clip_percent)``-th percentiles. So the whole
+  robust range lies inside [0, 1] and a contrast S-curve pivots on the typical
+  value: every texel moves away from the median, which raises the spread of any
+  histogram -- also the lopsided ones of real maps (three quarters of the
+  chessboard's normals are flat: stretching its 0.5-99.5 percentile range
+  linearly put the flat floor at 0 and the S-curve flattened the bumps). Beyond
+  [0, 1] (the outliers) the curve continues with slope 1: they keep their
+  distance from the range's end instead of being clipped by a curve that ends flat;
+- ``"space"``: the space's fixed theoretical range (``EditRange``; vectors from
+  0 to its span, e.g. pi/2 for frames), the same for every image; the table's
+  end segments continue beyond it (the behaviour before ``remap`` existed).
+
+A group whose data range is (nearly) empty -- a flat normal map, a constant
+color -- falls back to the space's range, so a curve on it still does something
+predictable instead of dividing by zero. Percentiles come from at most
+:data:`MAX_SAMPLES` texels on a regular stride (a robust statistic needs no
+more, and a 4K map stays cheap).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from .selection import ChannelGroup
+
+Remap = Literal["data", "space"]
+REMAPS: tuple[str, ...] = ("data", "space")
+#: default robust cut: the 0.5th to 99.5th percentiles (MATH.md "Curves / levels")
+CLIP_PERCENT = 0.5
+#: texels read at most for the percentiles
+MAX_SAMPLES = 1 << 20
+#: a data range narrower than this fraction of the space's span counts as empty
+_MIN_SPAN_FRACTION = 1e-4
+
+
+@dataclass(frozen=True)
+class ToneRange:
+    """What [0, 1] of the curve means for one channel group: ``lo + t * span``.
+
+    With ``remap="data"`` the median is at ``t = 0.5``.
+    """
+
+    group: str
+    vector: bool
+    #: per channel of the group (one entry for a vector: its magnitude)
+    lo: np.ndarray
+    span: np.ndarray
+    #: "data" or "space" (what was used, after any fallback)
+    source: tuple[str, ...]
+
+    def describe(self) -> str:
+        """``name [lo, hi] (data)``, one interval per channel (rounded for display)."""
+        parts = [
+            f"[{lo:.4g}, {lo + span:.4g}]" + ("" if src == "data" else " (space)")
+            for lo, span, src in zip(self.lo, self.span, self.source, strict=True)
+        ]
+        label = f"{self.group} |v|" if self.vector else self.group
+        return f"{label} {', '.join(parts)}"
+
+
+def _space_range(group: ChannelGroup) -> tuple[float, float]:
+    er = group.edit_range
+    span = er.span if np.isfinite(er.span) else 1.0
+    if group.curve_mode == "vector":
+        return 0.0, float(span)
+    lo = er.lo if np.isfinite(er.lo) else 0.0
+    return float(lo), float(span)
+
+
+def _strided(block: np.ndarray) -> np.ndarray:
+    height, width = block.shape[:2]
+    step = max(1, int(np.ceil(np.sqrt(height * width / MAX_SAMPLES))))
+    return block[::step, ::step]
+
+
+def group_values(block: np.ndarray, group: ChannelGroup) -> np.ndarray:
+    """``(..., k)`` values a curve reads: the channels, or ``(..., 1)`` magnitudes of a vector."""
+    values = block[..., group.channels].astype(np.float64)
+    if group.curve_mode == "vector":
+        return np.sqrt((values**2 * group.quadrature).sum(axis=-1, keepdims=True))
+    return values
+
+
+def tail_slope(remap: Remap) -> float:
+    """How a curve continues beyond [0, 1]: slope 1 (data), the table's end segments (-1)."""
+    return 1.0 if remap == "data" else -1.0
+
+
+def tone_ranges(
+    block: np.ndarray,
+    groups: list[ChannelGroup],
+    *,
+    remap: Remap = "data",
+    clip_percent: float = CLIP_PERCENT,
+) -> list[ToneRange]:
+    """One :class:`ToneRange` per group of the selected ``block`` ``(H, W, k)``."""
+    if remap not in REMAPS:
+        raise ValueError(f"unknown remap {remap!r} (use {' or '.join(REMAPS)})")
+    sample = _strided(block) if remap == "data" else None
+    out = []
+    for group in groups:
+        vector = group.curve_mode == "vector"
+        count = 1 if vector else len(group.channels)
+        space_lo, space_span = _space_range(group)
+        lo = np.full(count, space_lo)
+        span = np.full(count, space_span)
+        source = ["space"] * count
+        if sample is not None:
+            values = group_values(sample, group).reshape(-1, count)
+            finite = np.isfinite(values).all(axis=1)
+            if finite.any():
+                cuts = [clip_percent, 50.0, 100.0 - clip_percent]
+                low, median, high = np.percentile(values[finite], cuts, axis=0)
+                for c in range(count):
+                    reach = max(median[c] - low[c], high[c] - median[c])
+                    if reach > 0.5 * _MIN_SPAN_FRACTION * space_span:
+                        lo[c], span[c], source[c] = median[c] - reach, 2.0 * reach, "data"
+        out.append(ToneRange(group.name, vector, lo, span, tuple(source)))
+    return out
