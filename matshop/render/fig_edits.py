@@ -295,12 +295,29 @@ def fig7(ctx: FigureContext) -> FigureResult:
         )
     )
 
-    m = EditableMaterial(edit0).apply("detail", amount=3.0, sigma_px=4.0, sigma_range=0.1)
+    # the paper's (e)-(f): unsharp masking of the BRDF parameters, then of the frames
+    m = EditableMaterial(edit0).apply(
+        "detail", amount=3.0, sigma_px=4.0, sigma_range=0.1, params=["base_color", "roughness"]
+    )
     values["detail_hf"] = _high_freq(_luma(m.physical())) / _high_freq(l0)
     tiles.append(
         plots.caption(
             _swatch(ctx, m.physical(), 200),
-            ["(e) unsharp mask, all params", f"kd fine detail x{values['detail_hf']:.2f}"],
+            ["(e) unsharp mask, kd + roughness", f"kd fine detail x{values['detail_hf']:.2f}"],
+            height=13,
+            scale=0.33,
+        )
+    )
+    tilt_map0 = _tilt_deg(material.maps["normal"])
+    m = EditableMaterial(edit0).apply(
+        "detail", amount=3.0, sigma_px=4.0, sigma_range=0.1, params=["normal"]
+    )
+    tilt_map = _tilt_deg(m.physical().maps["normal"])
+    values["detail_tilt_hf"] = _high_freq(tilt_map) / _high_freq(tilt_map0)
+    tiles.append(
+        plots.caption(
+            _swatch(ctx, m.physical(), 200),
+            ["(f) unsharp mask, frames", f"tilt fine detail x{values['detail_tilt_hf']:.2f}"],
             height=13,
             scale=0.33,
         )
@@ -314,7 +331,7 @@ def fig7(ctx: FigureContext) -> FigureResult:
         plots.caption(
             _swatch(ctx, m.physical(), 200),
             [
-                "(f) seamless clone (checker",
+                "(g) seamless clone (checker",
                 f"square), {100 * values['clone_changed']:.1f}% of texels",
             ],
             height=13,
@@ -323,7 +340,7 @@ def fig7(ctx: FigureContext) -> FigureResult:
     )
 
     image = plots.caption(
-        plots.grid([tiles[:4], tiles[4:]], gap=3),
+        plots.grid([tiles[:4], tiles[4:]], gap=3),  # original, (a)-(c) | (d)-(g)
         [
             f"Fig. 7: ops in edit space on '{material.name}' ({w}x{h}), "
             "rendered as swatches (studio + key light)."

@@ -1,8 +1,8 @@
 """Figs. 4, 5, 6 as plots: lobe and profile scaling/interpolation, analytic fits.
 
 - Fig. 5: the exact scaled CDF ``c(theta / s)`` against the family's CDF at the
-  parameter the editing space predicts, for Phong and GGX in the paper's
-  coordinate and in the default (median-angle) one; measurement: the worst
+  parameter the editing space predicts, for Phong, Beckmann (the paper's
+  panels) and GGX, each in the paper's coordinate and the median-angle one; measurement: the worst
   CDF error (:func:`matshop.spaces.fit.scaling_fit`, all lobes and the lobes
   that fit the hemisphere).
 - Fig. 4: sampled GGX lobes scaled by ``s`` and interpolated in the sampled
@@ -68,6 +68,8 @@ def fig5(ctx: FigureContext) -> FigureResult:
     for space_name, family, param in (
         ("phong_paper", "phong", 20.0),
         ("phong", "phong", 20.0),
+        ("beckmann_identity", "beckmann", 0.2),
+        ("beckmann_median", "beckmann", 0.2),
         ("ggx_alpha", "ggx", 0.2),
         ("ggx", "ggx", 0.2),
     ):
@@ -75,11 +77,12 @@ def fig5(ctx: FigureContext) -> FigureResult:
         panels.append(img)
         values[f"{space_name}_worst"], values[f"{space_name}_fits"] = worst, fits
     image = plots.caption(
-        plots.grid([panels[:2], panels[2:]], gap=6),
+        plots.grid([panels[:2], panels[2:4], panels[4:]], gap=6),
         [
             "Fig. 5: scaling the edit value by s vs scaling the lobe's angles by s",
             "(solid: exact c(theta/s), dashed: the family's CDF at the predicted parameter).",
-            "Paper coordinate left, default right.",
+            "Phong, Beckmann (the paper's two analytic lobes), GGX; paper coordinate left,",
+            "median-angle coordinate right (the default for Phong and GGX; Beckmann keeps m).",
         ],
     )
     path = ctx.save("fig5_analytic_fits", image)

@@ -3,13 +3,17 @@
 Each row interpolates between the same two materials in ``K`` equal steps,
 once linearly in the parameter's editing space (``from_edit((1-t) e0 + t e1)``)
 and once linearly in the physical value files hold. Its measurement is an
-appearance quantity read from renders, fitted by a line in ``t``:
+appearance quantity read from renders, chosen *independent of the editing
+coordinates* (an energy or a median lobe angle would be the very quantity the
+default coordinates are built from, so their R^2 could not fail):
 
-- colors (kd, ks): mean reflected radiance of the ball (studio light);
-- lobes (Phong n, Beckmann m, GGX r, sampled d, anisotropic nu): highlight
-  size -- the energy-weighted median, over the ball's pixels, of the angle
-  between the pixel's normal and the half vector of a directional light,
-  from a specular-only render (the ball's image, not the lobe's formula).
+- colors (kd, ks): the ball's perceived lightness, CIE L* of its mean
+  reflected luminance (studio light);
+- lobes (Phong n, Beckmann m, GGX r, sampled d, anisotropic nu): the
+  highlight's half-maximum width -- the largest angle between a pixel's normal
+  and the light's half vector among the pixels at least half as bright as the
+  brightest (its 98th percentile), from a specular-only render under one
+  directional light: set by the lobe's shape near its peak, not by its CDF.
 
 ``R^2`` of the linear fit says how evenly the steps change appearance; the
 paper's claim is that edit-space steps are even (R^2 near 1) and physical
@@ -87,15 +91,22 @@ def interpolate(space_name: str, p0: np.ndarray, p1: np.ndarray, t: np.ndarray, 
     return space.from_edit(((1.0 - t) * e0 + t * e1).astype(np.float32))
 
 
-def highlight_width(image, gbuf: scenes.GBuffer) -> float:
-    """Energy-weighted median angle (degrees) between pixel normals and the light's half vector."""
+def half_max_width(image, gbuf: scenes.GBuffer) -> float:
+    """Half-maximum highlight width (degrees): the 98th percentile of the angle between
+    pixel normals and the light's half vector over pixels at least half the peak."""
     energy = image.radiance[gbuf.mask].sum(axis=1)
     h = LIGHT.unit()[None, :] + gbuf.view
     h /= np.linalg.norm(h, axis=1, keepdims=True)
     angle = np.degrees(np.arccos(np.clip(np.sum(gbuf.normal * h, axis=1), -1.0, 1.0)))
-    order = np.argsort(angle)
-    cum = np.cumsum(energy[order])
-    return float(angle[order][np.searchsorted(cum, 0.5 * cum[-1])])
+    bright = energy >= 0.5 * energy.max()
+    return float(np.percentile(angle[bright], 98))
+
+
+def lightness(image, gbuf: scenes.GBuffer) -> float:
+    """CIE L* of the ball's mean luminance (white = luminance 1)."""
+    y = float(image.radiance[gbuf.mask].mean(axis=0) @ np.array([0.2126, 0.7152, 0.0722]))
+    f = np.cbrt(y) if y > (6 / 29) ** 3 else y / (3 * (6 / 29) ** 2) + 4 / 29
+    return 116.0 * f - 16.0
 
 
 def r_squared(t: np.ndarray, y: np.ndarray) -> float:
@@ -120,13 +131,13 @@ def _strip(ctx, label, param, space, ends, fixed, measure, edit, t):
         tiles.append(display(render(material, scene=gbuf, environment=ctx.environment, samples=48)))
         if measure == "energy":
             img = render(material, scene=gbuf, environment=ctx.environment, samples=16)
-            metric.append(float(img.radiance[gbuf.mask].mean()))
+            metric.append(lightness(img, gbuf))
         else:
             spec = constant(**{param: value}, base_color=(0.0, 0.0, 0.0))
             img = render(
                 spec, scene=gbuf, environment_scale=0.0, lights=(LIGHT,), background=(0, 0, 0)
             )
-            metric.append(highlight_width(img, gbuf))
+            metric.append(half_max_width(img, gbuf))
     return tiles, np.array(metric)
 
 
@@ -134,7 +145,7 @@ def fig3(ctx: FigureContext) -> FigureResult:
     t = np.linspace(0.0, 1.0, STEPS)
     rows, values, summary = [], {}, []
     for label, param, space, ends, fixed, measure in ROWS:
-        quantity = "energy" if measure == "energy" else "highlight width"
+        quantity = "lightness L*" if measure == "energy" else "half-max width"
         r2 = {}
         for edit in (True, False):
             tiles, metric = _strip(ctx, label, param, space, ends, fixed, measure, edit, t)
@@ -155,8 +166,9 @@ def fig3(ctx: FigureContext) -> FigureResult:
         [
             "Fig. 3: linear interpolation between the same two materials, 7 steps,"
             " in edit space (upper row)",
-            "and in physical space (lower row). R2: linear fit of the measured appearance"
-            " vs the step.",
+            "and in physical space (lower row). R2: linear fit vs the step of an appearance"
+            " measure independent",
+            "of the coordinates: lightness L* (colors), half-maximum highlight width (lobes).",
         ],
     )
     path = ctx.save("fig3_interpolation_strips", image)
