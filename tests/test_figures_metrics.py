@@ -41,3 +41,52 @@ def test_fig5_has_the_papers_beckmann_panel(tmp_path):
     assert values["beckmann_identity_worst"] == pytest.approx(0.28, abs=0.01)
     assert values["beckmann_identity_fits"] == pytest.approx(0.27, abs=0.01)
     assert values["beckmann_median_fits"] == pytest.approx(0.15, abs=0.01)
+
+
+def test_fig8_scaling_radii_keeps_albedo_and_spreads_line_light(tmp_path):
+    values = make_figures(tmp_path, only=["fig8"])[0].values
+    for s in ("0.5", "2"):
+        # diffuse light: the albedo channel is untouched, so the swatch looks the same
+        assert values[f"diffuse_ratio_s{s}"] == pytest.approx(1.0, abs=0.02)
+        # line light: the reflected total is the albedo's too (the transport conserves it)
+        assert values[f"line_total_ratio_s{s}"] == pytest.approx(1.0, abs=0.02)
+    # ... while the light bleeds further from the line as the radii grow
+    # (measured x0.47 / x1.77: at s = 2 the tail past r_max leaves the profile)
+    assert values["line_spread_ratio_s0.5"] < 0.6
+    assert values["line_spread_ratio_s2"] > 1.6
+
+
+def test_fig9_stroke_file_replays_through_the_brush_engine(tmp_path):
+    """The figure's session is an ordinary stroke file: the parser reads it back and the
+    engine paints the bronze swatch where the first stroke passed (truth: its values)."""
+    import json
+
+    from matshop.layers import Document
+    from matshop.material import Material, Schema
+    from matshop.paint.painter import StrokeSession
+    from matshop.paint.strokefile import load_strokes
+    from matshop.render.fig_paint import PAINTED, stroke_file
+
+    size = 128
+    path = tmp_path / "strokes.json"
+    data = stroke_file(size)
+    path.write_text(json.dumps(data))
+    strokes = load_strokes(path)
+    assert [s.options.get("mode", "paint") for s in strokes] == ["paint", "paint", "clone"]
+    schema = Schema.from_names(["base_color", "roughness", "metallic"])
+    maps = {
+        "base_color": np.full((size, size, 3), 0.5, np.float32),
+        "roughness": np.full((size, size, 1), 0.5, np.float32),
+        "metallic": np.zeros((size, size, 1), np.float32),
+    }
+    doc = Document.from_material(Material("m", schema, maps))
+    layer = doc.new_paint_layer("Paint", parameters=PAINTED)
+    doc.insert_layer(layer)
+    session = StrokeSession(doc, layer.id, strokes[0].brush, **strokes[0].options)
+    session.add(strokes[0].samples)
+    session.end()
+    assert session.dabs > 20
+    x, y, _ = data["strokes"][0]["points"][-1]  # full pressure, hardness 0.7: full cover
+    phys = doc.flatten_physical().maps
+    np.testing.assert_allclose(phys["base_color"][int(y), int(x)], [0.8, 0.55, 0.3], atol=2e-3)
+    assert phys["metallic"][int(y), int(x), 0] == pytest.approx(1.0, abs=1e-3)

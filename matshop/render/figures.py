@@ -4,7 +4,8 @@ Each figure function takes a :class:`FigureContext` and returns a
 :class:`FigureResult` (the PNG it wrote and a one-line measurement). The
 figures live in their own modules: :mod:`.fig_strips` (Fig. 3),
 :mod:`.fig_plots` (Figs. 4, 5, 6), :mod:`.fig_edits` (Figs. 2, 7),
-:mod:`.fig_aniso` (Fig. 7(h)), :mod:`.fig_steep` (Fig. 2 on synthetic relief).
+:mod:`.fig_aniso` (Fig. 7(h)), :mod:`.fig_steep` (Fig. 2 on synthetic relief),
+:mod:`.fig_subsurface` (Fig. 8), :mod:`.fig_paint` (Fig. 9).
 """
 
 from __future__ import annotations
@@ -67,6 +68,8 @@ FIGURES: dict[str, tuple[str, str]] = {
     "fig6": ("fig_plots", "fig6"),
     "fig7": ("fig_edits", "fig7"),
     "fig7h": ("fig_aniso", "fig7h"),
+    "fig8": ("fig_subsurface", "fig8"),
+    "fig9": ("fig_paint", "fig9"),
 }
 
 
