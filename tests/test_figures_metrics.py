@@ -90,3 +90,38 @@ def test_fig9_stroke_file_replays_through_the_brush_engine(tmp_path):
     phys = doc.flatten_physical().maps
     np.testing.assert_allclose(phys["base_color"][int(y), int(x)], [0.8, 0.55, 0.3], atol=2e-3)
     assert phys["metallic"][int(y), int(x), 0] == pytest.approx(1.0, abs=1e-3)
+
+
+def test_fig1_burn_does_what_it_asks_in_edit_space_only():
+    """Scale kd by 0.25 and frames by 2.5 inside a blob: in edit space the linear albedo
+    (sRGB decoded here) drops x0.25 and the tilt (from the normals) grows x2.5; on the file
+    values the albedo drops far more and renormalising the normals undoes the scale."""
+    from matshop.render.fig_sequences import apply_edit, apply_physical, sequences
+    from matshop.render.materials import from_maps
+
+    size = 48
+    rng = np.random.default_rng(5)
+    normal = rng.normal(size=(size, size, 3)) * [0.05, 0.05, 0.0] + [0, 0, 1]
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    material = from_maps(
+        {
+            "base_color": rng.uniform(0.3, 0.8, (size, size, 3)),
+            "roughness": rng.uniform(0.2, 0.6, (size, size)),
+            "normal": normal,
+        }
+    )
+    steps = sequences(size)["burn"]
+    inside = steps[0][1]["mask"] > 0.99
+
+    def albedo(m):
+        v = m.maps["base_color"].astype(np.float64)
+        return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)[inside].mean()
+
+    def tilt(m):
+        return np.arccos(np.clip(m.maps["normal"][..., 2], -1, 1))[inside].mean()
+
+    edit, phys = apply_edit(material, steps)[-1], apply_physical(material, steps)[-1]
+    assert albedo(edit) / albedo(material) == pytest.approx(0.25, rel=0.01)
+    assert tilt(edit) / tilt(material) == pytest.approx(2.5, rel=0.02)
+    assert albedo(phys) / albedo(material) < 0.15
+    assert tilt(phys) / tilt(material) == pytest.approx(1.0, abs=0.01)

@@ -5,7 +5,8 @@ Each figure function takes a :class:`FigureContext` and returns a
 figures live in their own modules: :mod:`.fig_strips` (Fig. 3),
 :mod:`.fig_plots` (Figs. 4, 5, 6), :mod:`.fig_edits` (Figs. 2, 7),
 :mod:`.fig_aniso` (Fig. 7(h)), :mod:`.fig_steep` (Fig. 2 on synthetic relief),
-:mod:`.fig_subsurface` (Fig. 8), :mod:`.fig_paint` (Fig. 9).
+:mod:`.fig_subsurface` (Fig. 8), :mod:`.fig_paint` (Fig. 9),
+:mod:`.fig_sequences` (Fig. 1).
 """
 
 from __future__ import annotations
@@ -60,6 +61,7 @@ def display(image: RenderedImage, *, exposure: float = 0.0, tonemap: str = "aces
 
 #: figure name -> (module, function)
 FIGURES: dict[str, tuple[str, str]] = {
+    "fig1": ("fig_sequences", "fig1"),
     "fig3": ("fig_strips", "fig3"),
     "fig5": ("fig_plots", "fig5"),
     "fig2": ("fig_edits", "fig2"),
