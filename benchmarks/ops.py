@@ -67,6 +67,13 @@ def main() -> None:
             copy,
             "copy",
         )
+        # the default remap=data reads each channel's percentiles first; remap=space not
+        line(
+            f"curves remap=space, {n}",
+            best_time(lambda e=edit, p=points: curves(e, points=p, remap="space"), args.repeat),
+            copy,
+            "copy",
+        )
         line(
             f"composite with mask, {n}",
             best_time(lambda e=edit, o=other, m=mask: composite(e, o, mask=m), args.repeat),

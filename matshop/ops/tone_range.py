@@ -41,7 +41,7 @@ REMAPS: tuple[str, ...] = ("data", "space")
 #: default robust cut: the 0.5th to 99.5th percentiles (MATH.md "Curves / levels")
 CLIP_PERCENT = 0.5
 #: texels read at most for the percentiles
-MAX_SAMPLES = 1 << 20
+MAX_SAMPLES = 1 << 18
 #: a data range narrower than this fraction of the space's span counts as empty
 _MIN_SPAN_FRACTION = 1e-4
 
@@ -88,8 +88,9 @@ def _strided(block: np.ndarray) -> np.ndarray:
 
 def group_values(block: np.ndarray, group: ChannelGroup) -> np.ndarray:
     """``(..., k)`` values a curve reads: the channels, or ``(..., 1)`` magnitudes of a vector."""
-    values = block[..., group.channels].astype(np.float64)
+    values = block[..., group.channels]
     if group.curve_mode == "vector":
+        values = values.astype(np.float64)
         return np.sqrt((values**2 * group.quadrature).sum(axis=-1, keepdims=True))
     return values
 
@@ -109,7 +110,8 @@ def tone_ranges(
     """One :class:`ToneRange` per group of the selected ``block`` ``(H, W, k)``."""
     if remap not in REMAPS:
         raise ValueError(f"unknown remap {remap!r} (use {' or '.join(REMAPS)})")
-    sample = _strided(block) if remap == "data" else None
+    # one contiguous copy of the strided texels: the per-group gathers stay cheap
+    sample = np.ascontiguousarray(_strided(block)) if remap == "data" else None
     out = []
     for group in groups:
         vector = group.curve_mode == "vector"
