@@ -78,6 +78,7 @@ def apply_lut(
     selection = Selection(edit, schema=schema, params=params, mask=mask, op=op)
     block = selection.take(edit)
     ranges = tone_ranges(block, selection.groups, remap=remap, clip_percent=clip_percent)
+    tail = tail_slope(remap)
     result = np.empty(block.shape, dtype=np.float32)
     lut = np.ascontiguousarray(lut, dtype=np.float64)
     # every per-channel group in one pass; each vector group in its own
@@ -87,12 +88,11 @@ def apply_lut(
         channels = np.concatenate([g.channels for g, _ in scalar])
         lo = np.concatenate([r.lo for _, r in scalar])
         span = np.concatenate([r.span for _, r in scalar])
-        lut_channels(block, channels, lo, span, lut, tail_slope(remap), result)
+        lut_channels(block, channels, lo, span, lut, tail, result)
     for group, tone in pairs:
         if tone.vector:
             quadrature = group.quadrature.astype(np.float64)
             lo, span = float(tone.lo[0]), float(tone.span[0])
-            tail = tail_slope(remap)
             lut_vector(block, group.channels, quadrature, lut, lo, span, tail, result)
     return selection.put(edit, result)
 
