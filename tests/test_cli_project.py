@@ -114,7 +114,7 @@ def test_layer_list_remove_and_hidden(project: Path, capsys: pytest.CaptureFixtu
 
 
 def test_fill_from_another_set_with_a_mask(project: Path, tmp_path: Path) -> None:
-    from matshop.io.images import write_image
+    from matshop.io.images import read_image, write_image
 
     rust = tmp_path / "rust"
     rust.mkdir()
@@ -130,7 +130,9 @@ def test_fill_from_another_set_with_a_mask(project: Path, tmp_path: Path) -> Non
     base = load_material(SAMPLE)[0].maps
     assert np.allclose(maps["base_color"][:, 0], base["base_color"][:, 0], atol=1e-5)
     assert np.allclose(maps["base_color"][:, -1], [0.6, 0.25, 0.1], atol=2e-3)
-    assert np.array_equal(maps["roughness"], doc.physical()["roughness"])
+    # the fill affects base color only: roughness is the source file's, code for code
+    rough_file, _ = read_image(SAMPLE / "tiles_roughness.png")
+    assert np.abs(maps["roughness"][..., 0] - rough_file[..., 0]).max() <= 0.5 / 255
 
 
 def test_an_empty_project_of_a_given_size(tmp_path: Path) -> None:

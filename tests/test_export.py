@@ -33,12 +33,18 @@ NORMAL_CODE8_DEG = np.degrees(np.sqrt(3) * 2 / 255)
 ENGINE_PRESETS = ("unreal", "unity_urp", "unity_hdrp", "gltf", "godot")
 
 
-@pytest.fixture(scope="module")
-def source() -> Material:
-    """The real set (chessboard, else the bundled sample), resampled to 512 in
-    edit space so its values are off the 8-bit grid: quantisation is exercised."""
-    material, _ = load_material(CHESSBOARD if CHESSBOARD.is_dir() else SAMPLE)
-    return resize_material(material, (512, 512))
+@pytest.fixture(scope="module", params=["sample", "chessboard"])
+def source(request) -> Material:
+    """The bundled sample and the real chessboard set, resampled to 384 in edit
+    space so their values are off the 8-bit grid: quantisation is exercised."""
+    if request.param == "chessboard" and not CHESSBOARD.is_dir():
+        pytest.skip(f"{CHESSBOARD} not present (the shared data folder)")
+    material, _ = load_material(SAMPLE if request.param == "sample" else CHESSBOARD)
+    resized = resize_material(material, (384, 384))
+    for name in material.maps:  # the premise: off the grid
+        codes = resized.maps[name] * 255
+        assert np.abs(codes - np.rint(codes)).max() > 0.1, name
+    return resized
 
 
 @pytest.fixture(scope="module")
@@ -108,7 +114,7 @@ def test_directx_normals_have_green_flipped(source: Material, tmp_path: Path) ->
     assert _worst(dx[..., 1], 1.0 - gl[..., 1]) <= CODE8 + 1e-6
     assert _worst(dx[..., [0, 2]], gl[..., [0, 2]]) <= CODE8 + 1e-6
     # and the flip is real: the chessboard's normals are not flat in y
-    assert np.abs(gl[..., 1] - 0.5).max() > 10 * CODE8
+    assert np.abs(gl[..., 1] - 0.5).max() > 5 * CODE8
 
 
 def test_raw_preset_round_trip_is_tighter(source: Material, tmp_path: Path) -> None:

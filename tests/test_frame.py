@@ -32,7 +32,9 @@ from matshop.spaces.frame import (
     quat_rotate,
 )
 
-CHESSBOARD_NORMAL = Path("/work/shared/data/chessboard/chessboard_normal.jpg")
+CHESSBOARD_NORMAL = (
+    Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard" / "chessboard_normal.jpg"
+)
 
 NORMAL = NormalFrameSpace()
 FRAME = NormalTangentFrameSpace()
@@ -42,8 +44,9 @@ ONE_8BIT_STEP = math.sqrt(3.0) * 2.0 / 255.0
 #: float32 round trips stay far below an 8-bit step
 FLOAT_TOL = 2e-6
 
-settings.register_profile("frame", max_examples=60, deadline=None)
-settings.load_profile("frame")
+#: these properties run numpy on small arrays: 60 examples, no per-example deadline
+#: (set per test, so importing this module changes no other test's settings)
+PROPERTY = settings(max_examples=60, deadline=None)
 
 
 # ---------------------------------------------------------------------------
@@ -162,6 +165,7 @@ def test_wrong_channel_counts_raise(space):
 # normal-only frames
 
 
+@PROPERTY
 @given(unit_vectors())
 def test_normal_round_trip_hypothesis(n):
     edit = NORMAL.to_edit(n)
@@ -202,6 +206,7 @@ def test_normal_special_values():
     np.testing.assert_allclose(NORMAL.from_edit(np.array([0, 0, 1.3])), [0, 0, 1], atol=1e-6)
 
 
+@PROPERTY
 @given(arrays(np.float64, (5, 3), elements=st.floats(-50.0, 50.0)))
 def test_normal_from_arbitrary_edits_is_unit(edit):
     assert_unit(NORMAL.from_edit(edit))
@@ -289,6 +294,7 @@ def test_frame_round_trip_against_scipy():
     np.testing.assert_allclose(back, ref, atol=2e-6)
 
 
+@PROPERTY
 @given(st.integers(0, 2**32 - 1))
 def test_frame_round_trip_hypothesis(seed):
     rot = Rotation.random(random_state=seed)
@@ -337,6 +343,7 @@ def test_linear_combinations_stay_valid(space):
         assert_orthonormal_frames(back)
 
 
+@PROPERTY
 @given(arrays(np.float64, (6, 3), elements=st.floats(-50.0, 50.0)))
 def test_frame_from_arbitrary_edits_is_orthonormal(edit):
     assert_orthonormal_frames(FRAME.from_edit(edit))
