@@ -8,6 +8,7 @@ if not os.environ.get("DISPLAY"):
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
 import shutil
+import time
 from pathlib import Path
 
 import pytest
@@ -104,14 +105,21 @@ class DialogPrompts(ScriptedPrompts):
     review_texture_set = Prompts.review_texture_set
 
 
-def _in_dialog(qtbot, act) -> list[TextureSetDialog]:
-    """Run ``act(dialog)`` on the texture-set dialog once it is shown modally."""
+def _in_dialog(qtbot, act, deadline_s: float = 30.0) -> list[TextureSetDialog]:
+    """Run ``act(dialog)`` on the texture-set dialog once it is shown modally.
+
+    Polls until the dialog shows, for ``deadline_s`` at most: a dialog that
+    never comes leaves ``seen`` empty (the caller asserts it), not a timer
+    polling forever.
+    """
     seen: list[TextureSetDialog] = []
+    give_up = time.monotonic() + deadline_s
 
     def poll() -> None:
         dialog = QApplication.activeModalWidget()
         if not isinstance(dialog, TextureSetDialog):
-            QTimer.singleShot(20, poll)
+            if time.monotonic() < give_up:
+                QTimer.singleShot(20, poll)
             return
         seen.append(dialog)
         act(dialog)
