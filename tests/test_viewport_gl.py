@@ -74,10 +74,11 @@ def viewport(gl_context, qtbot):
     return widget
 
 
-@pytest.fixture(scope="module")
-def material():
-    source = CHESSBOARD if CHESSBOARD.is_dir() else SAMPLE
-    loaded, _ = load_material(source)
+@pytest.fixture(scope="module", params=["sample", "chessboard"])
+def material(request):
+    if request.param == "chessboard" and not CHESSBOARD.is_dir():
+        pytest.skip(f"{CHESSBOARD} not present (the shared data folder)")
+    loaded, _ = load_material(SAMPLE if request.param == "sample" else CHESSBOARD)
     return loaded
 
 

@@ -95,10 +95,11 @@ def viewport(gl_context, qtbot):
     return widget
 
 
-@pytest.fixture(scope="module")
-def base():
-    source = CHESSBOARD if CHESSBOARD.is_dir() else SAMPLE
-    loaded, _ = load_material(source)
+@pytest.fixture(scope="module", params=["sample", "chessboard"])
+def base(request):
+    if request.param == "chessboard" and not CHESSBOARD.is_dir():
+        pytest.skip(f"{CHESSBOARD} not present (the shared data folder)")
+    loaded, _ = load_material(SAMPLE if request.param == "sample" else CHESSBOARD)
     return _resized(loaded, 512)
 
 
@@ -184,7 +185,16 @@ def small(base):
 
 
 @pytest.mark.parametrize("family", ["sampled", "sampled_two_lobe"])
-def test_sampled_lobes_from_their_inverse_cdf(viewport, small, family):
+def test_sampled_lobes_from_their_inverse_cdf(viewport, small, family, request):
+    if "sample-" in request.node.name:
+        # Found when this test first ran on a second set (before, only on the
+        # chessboard, whose limits these are): on the bundled sample's low
+        # roughness the GPU's 16-node inverse-CDF lookup measures mean 1.02 / p99 6
+        # (GGX table) and 0.83 / 5 (two-lobe), worse than the median-matched GGX
+        # (0.32 / 3). Strict: it fails loudly once the lookup is made accurate.
+        request.applymarker(
+            pytest.mark.xfail(strict=True, reason="16-node GPU lookup too coarse at low roughness")
+        )
     material = with_lobe(small, family)
     ref = _reference(material)
     gl = _gl(viewport, material)
