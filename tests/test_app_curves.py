@@ -93,6 +93,15 @@ def test_curves_dialog_adds_a_layer_one_step_per_drag_and_cancels_exactly(window
     # the dialog says what [0, 1] stands for: the values' own range by default
     assert dialog.range_label.text().startswith("0 → 1 spans (data): ")
     assert "normal |v| [" in dialog.range_label.text()
+    # ... and offers the space's fixed range: one undo step, shown at once
+    dialog.remap.activated.emit(dialog.remap.findData("space"))
+    assert layer.op_params["remap"] == "space" and window.session.steps == steps + 2
+    assert dialog.range_label.text().startswith("0 → 1 spans (space): ")
+    assert "normal |v| [0, 1.571] (space)" in dialog.range_label.text()
+    window.session.undo()
+    assert layer.op_params["remap"] == "data" and window.session.steps == steps + 1
+    assert dialog.remap.currentData() == "data"
+    assert dialog.range_label.text().startswith("0 → 1 spans (data): ")
     editor, model = dialog.editor, dialog.model
     viewport = editor.viewport()
 

@@ -199,6 +199,18 @@ class CurvesDialog(QDialog):
         self.parameter.activated.connect(self._parameter_chosen)
         row.addWidget(self.parameter, 1)
         layout.addLayout(row)
+        row = QHBoxLayout()
+        row.addWidget(QLabel("0 → 1 spans"))
+        self.remap = QComboBox()
+        self.remap.addItem("the values in this image", "data")
+        self.remap.addItem("the parameter's full range", "space")
+        self.remap.setToolTip(
+            "The values in this image: median at the middle, outliers left out, so an "
+            "S-curve raises the contrast of what is there. Full range: the space's fixed range"
+        )
+        self.remap.activated.connect(self._remap_chosen)
+        row.addWidget(self.remap, 1)
+        layout.addLayout(row)
         self.editor = CurveEditor(self.model)
         layout.addWidget(self.editor, 1)
         self.readout = QLabel("")
@@ -278,6 +290,7 @@ class CurvesDialog(QDialog):
         params = layer.parameters
         chosen = params[0] if params is not None and len(params) == 1 else LINKED
         self.parameter.setCurrentIndex(max(self.parameter.findData(chosen), 0))
+        self.remap.setCurrentIndex(max(self.remap.findData(layer.op_params.get("remap")), 0))
         self._update_histogram()
         self.editor.view.redraw()
         self._update_readout()
@@ -326,6 +339,16 @@ class CurvesDialog(QDialog):
         self.session.seal()
         self._update_histogram()
 
+    def _remap_chosen(self, index: int) -> None:
+        layer = self.layer()
+        if layer is None:
+            return
+        self.session.seal()
+        params = {**layer.op_params, "remap": self.remap.itemData(index)}
+        self.commands.set_property(layer.id, "op_params", params)
+        self.session.seal()
+        self._update_histogram()
+
     def _history_changed(self) -> None:
         # an undo while the dialog is open: show what the layer holds now
         if self.model.dragging is None and self.isVisible():
@@ -333,6 +356,9 @@ class CurvesDialog(QDialog):
             if layer is not None and tuple(layer.op_params.get("points", ())) != self.model.points:
                 self.model.set_points(layer.op_params["points"])
                 self.editor.view.redraw()
+            if layer is not None and layer.op_params.get("remap") != self.remap.currentData():
+                self.remap.setCurrentIndex(max(self.remap.findData(layer.op_params["remap"]), 0))
+                self._update_histogram()
 
     def reset(self) -> None:
         """Back to the straight line (one undo step)."""
