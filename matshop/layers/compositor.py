@@ -216,14 +216,20 @@ class Compositor:
         start = count - 1
         while start > 0 and self._cache_at(start) is None:
             start -= 1
-        block = self.background(rect) if start == 0 else self.composite(start, rect)
+        first = start
+        if start == 0 and self._opaque_base():
+            # alpha-over at full weight gives the layer exactly: skip the background
+            block = np.array(layers[0].content(rect), dtype=np.float32)
+            first = 1
+        else:
+            block = self.background(rect) if start == 0 else self.composite(start, rect)
         # the input of each group that opens in this run, saved as the run passes it
         opening = {}
         for index in range(start, count):
             if isinstance(layers[index], GroupLayer):
                 opening.setdefault(self.doc.group_start(index), []).append(index)
         inputs: dict[int, np.ndarray] = {}
-        for index in range(start, count):
+        for index in range(first, count):
             layer = layers[index]
             if index in opening:
                 inputs[index] = block.copy()
@@ -236,6 +242,19 @@ class Compositor:
             else:
                 self._apply(layer, block, rect)
         return block
+
+    def _opaque_base(self) -> bool:
+        """Whether the bottom layer hides the background everywhere, in every parameter."""
+        layer = self.doc.layers[0]
+        return (
+            isinstance(layer, FillLayer)
+            and layer.parent is None
+            and self.doc.shows(layer)
+            and layer.blend == "normal"
+            and layer.opacity == 1.0
+            and layer.mask is None
+            and layer.parameters is None
+        )
 
     def background(self, rect: Rect) -> np.ndarray:
         # a broadcast assignment releases the GIL (np.tile does not): a worker
