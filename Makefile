@@ -1,17 +1,35 @@
-# The two commands of the README. PYTHON may point at a venv's interpreter.
-PYTHON ?= python3
+# The two commands of the README. Both work in a project virtual environment
+# (VENV, default .venv) made from SYSTEM_PYTHON, so they run the same on Debian's
+# managed Python (which refuses `pip install` outside a venv) and never touch a
+# system interpreter. `make test VENV=/path/to/other/venv` reuses another one.
+SYSTEM_PYTHON ?= python3
+VENV ?= .venv
+PYTHON := $(VENV)/bin/python
 PIP = $(PYTHON) -m pip install --disable-pip-version-check --quiet
 
-.PHONY: sample test bench
+.PHONY: sample test bench validator
+
+$(PYTHON):
+	$(SYSTEM_PYTHON) -m venv $(VENV)
+	$(PIP) --upgrade pip
 
 # install, then run the main job on the bundled sample
-sample:
+sample: $(PYTHON)
 	$(PIP) -e ".[gui]"
 	$(PYTHON) -m matshop demo resources/sample --out matshop-demo
 
+# the Khronos glTF validator the export tests use (skipped, with the reason, without npm)
+validator:
+	@if command -v npm >/dev/null; then \
+		npm install --prefix tools --no-audit --no-fund --loglevel=error >/dev/null; \
+	else \
+		echo "npm not found: the glTF validator tests will be skipped"; \
+	fi
+
 # install what the tests need, then lint and run the whole suite (the import-linter
-# contract runs inside pytest; Xvfb is used when there is no display)
-test:
+# contract runs inside pytest; Xvfb is used when there is no display; pytest's
+# summary lists every skipped test with its reason)
+test: $(PYTHON) validator
 	$(PIP) -e ".[gui,test]"
 	$(PYTHON) -m ruff check matshop tests benchmarks scripts
 	if [ -z "$$DISPLAY" ] && command -v xvfb-run >/dev/null; then \
@@ -20,5 +38,6 @@ test:
 		$(PYTHON) -m pytest; \
 	fi
 
-bench:
+bench: $(PYTHON)
+	$(PIP) -e ".[gui]"
 	$(PYTHON) benchmarks/spaces.py
