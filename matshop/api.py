@@ -25,6 +25,7 @@ from .io.material_io import LoadReport, load_material, save_material
 from .material import EditMaterial, Material, ProgressCallback
 from .ops import get_op
 from .ops.selection import resolve_params
+from .ops.spec import run_op
 
 PathLike = str | os.PathLike[str]
 
@@ -128,7 +129,9 @@ class EditableMaterial:
             inputs[name], names = self._aligned(inputs[name], names, same_size=True)
         for name in optional:
             optional[name], names = self._aligned(optional[name], names, same_size=False)
-        result = spec.function(
+        result = run_op(
+            f"op {op}",
+            spec.function,
             self.edit.data,
             *inputs.values(),
             **optional,

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import importlib.util
+import math
 import os
 import sys
 from collections.abc import Sequence
@@ -59,12 +60,22 @@ def _repo_sample() -> Path:
 
 
 def _parse_spaces(pairs: Sequence[str]) -> dict[str, str]:
+    from .material import PARAMETER_KINDS  # not at import: `matshop --help` stays fast
+    from .spaces import all_spaces
+
     spaces = {}
     for pair in pairs:
-        param, sep, space = pair.partition("=")
+        param, sep, space = (part.strip() for part in pair.partition("="))
         if not sep or not param or not space:
             raise MatshopError(f"--space expects PARAMETER=SPACE, got {pair!r}")
-        spaces[param.strip()] = space.strip()
+        if param not in PARAMETER_KINDS:
+            known = ", ".join(PARAMETER_KINDS)
+            raise MatshopError(f"--space {pair}: unknown parameter {param!r} (known: {known})")
+        if space not in all_spaces():
+            raise MatshopError(
+                f"--space {pair}: unknown editing space {space!r} (see `matshop spaces`)"
+            )
+        spaces[param] = space
     return spaces
 
 
@@ -78,6 +89,13 @@ def _parse_maps(pairs: Sequence[str]) -> dict[str, Path | None]:
             )
         maps[slot.strip()] = Path(file) if file else None
     return maps
+
+
+def check_number(value: float, option: str, lo: float, hi: float) -> float:
+    """``value`` of a numeric option if finite and within [lo, hi]; else a one-line error."""
+    if not (math.isfinite(value) and lo <= value <= hi):
+        raise MatshopError(f"{option} must be a number from {lo:g} to {hi:g}, got {value:g}")
+    return value
 
 
 def add_load_options(parser: argparse.ArgumentParser) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import MatshopError
+from .errors import MatshopError, naming
 from .io.project import find_recovery, load_project, save_project
 from .layers import AddLayer, Document, History, Layer, RemoveLayer, SetMask, SetProperty
 from .layers.layer import PaintLayer
@@ -33,7 +33,8 @@ def run(args: argparse.Namespace) -> int:
         "flatten": cmd_flatten,
         "recover": cmd_recover,
     }
-    return handlers[args.action](args)
+    with naming(args.project):  # every message names the project it is about
+        return handlers[args.action](args)
 
 
 def _names(text: str | None) -> list[str] | None:

@@ -50,6 +50,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import MatshopError
+from ..io.guard import read_input_file
+from ..io.jsonfile import MAX_JSON_BYTES, bounded_int
 from ..io.safe_names import file_name_problem, safe_stem
 
 #: parameters whose values are display-encoded colors
@@ -169,10 +171,7 @@ def load_preset(name: str | None = None, *, path: str | os.PathLike | None = Non
     """
     if path is not None:
         file = Path(path)
-        try:
-            text = file.read_bytes()
-        except OSError as exc:
-            raise MatshopError(f"cannot read preset: {exc.strerror or exc}", file) from None
+        text = read_input_file(file, "preset file", MAX_JSON_BYTES)
         return parse_preset(_decode(text, file), origin=str(file))
     if name is None:
         raise MatshopError("no preset given: use --preset NAME or --preset-file FILE")
@@ -188,11 +187,13 @@ def _decode(text: bytes, file: Path) -> dict[str, Any]:
         if file.suffix.lower() == ".toml":
             data = tomllib.loads(text.decode("utf-8"))
         elif file.suffix.lower() == ".json":
-            data = json.loads(text)
+            data = json.loads(text, parse_int=bounded_int)
         else:
             raise MatshopError("preset files must be .json or .toml", file)
     except (ValueError, UnicodeDecodeError) as exc:  # JSONDecodeError, TOMLDecodeError
         raise MatshopError(f"not a valid preset file: {exc}", file) from None
+    except RecursionError:
+        raise MatshopError("not a valid preset file: nested too deeply", file) from None
     if not isinstance(data, dict):
         raise MatshopError("a preset file must hold one table (a JSON object)", file)
     return data

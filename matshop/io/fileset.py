@@ -73,6 +73,7 @@ def write_all(
     out = Path(out_dir)
     names = [f.name for f in files]
     check_targets(out, names, force=force)
+    created = not out.exists()
     try:
         out.mkdir(parents=True, exist_ok=True)
         staging = Path(tempfile.mkdtemp(prefix=".matshop-staging-", dir=out))
@@ -86,9 +87,17 @@ def write_all(
                 raise MatshopError(
                     f"cannot write: {exc.strerror or exc}", out / pending.name
                 ) from None
+            except MatshopError as exc:  # name the file the user asked for, not the staged one
+                raise MatshopError(exc.problem, out / pending.name) from None
             if progress is not None:
                 progress(done, len(files))
         return _move_into_place(staging, out, names)
+    except BaseException:
+        if created:  # a failed write leaves no empty output folder behind
+            shutil.rmtree(staging, ignore_errors=True)
+            with contextlib.suppress(OSError):
+                out.rmdir()
+        raise
     finally:
         shutil.rmtree(staging, ignore_errors=True)
 

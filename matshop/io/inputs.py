@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+from ..errors import naming
 from ..material import Material
 
 PROJECT_SUFFIX = ".matshop"
@@ -24,7 +25,8 @@ def load_flattened(path: str | os.PathLike[str], **load_options: Any) -> Materia
     if is_project(path):
         from .project import load_project
 
-        return load_project(path).document.flatten_physical()
+        with naming(path):
+            return load_project(path).document.flatten_physical()
     from .material_io import load_material
 
     material, _ = load_material(path, **load_options)

@@ -24,6 +24,7 @@ from ..layers.geometry import TileKey, TileLayout
 from ..material import Parameter, Schema
 from ..ops import get_op
 from ..spaces import get_space
+from .jsonfile import bounded_int
 from .project_format import (
     ARRAY_DTYPES,
     FORMAT_NAME,
@@ -31,6 +32,7 @@ from .project_format import (
     LAYER_KINDS,
     MANIFEST_NAME,
     MAX_CHANNELS,
+    MAX_GROUP_DEPTH,
     MAX_LAYER_ID,
     MAX_LAYERS,
     MAX_PARAMETERS,
@@ -127,8 +129,9 @@ def load_manifest_json(data: bytes) -> Any:
             data.decode("utf-8"),
             object_pairs_hook=_no_duplicates,
             parse_constant=_refuse_constant,
+            parse_int=bounded_int,
         )
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except (UnicodeDecodeError, ValueError) as exc:  # JSONDecodeError, absurd integers
         raise FormatProblem(f"manifest is not valid JSON ({exc})") from None
     except RecursionError:
         raise FormatProblem("manifest nests too deeply") from None
@@ -257,6 +260,7 @@ def parse_manifest(manifest: Any) -> ManifestSpec:
     ids = [layer.id for layer in layers]
     if len(set(ids)) != len(ids):
         raise FormatProblem("two layers have the same id")
+    _check_nesting(layers)
     settings = _dict(manifest.get("settings", {}), "settings")
     sources = _parse_sources(doc.get("sources", {}))
     return ManifestSpec(version, app, name, layout, background, schema, layers, settings, sources)
@@ -281,6 +285,21 @@ def _parse_sources(value: Any) -> dict[str, dict[str, str | int | float | bool |
     if len(sources) > MAX_PARAMETERS:
         raise FormatProblem(f"document sources name more than {MAX_PARAMETERS} parameters")
     return sources
+
+
+def _check_nesting(layers: list[LayerSpec]) -> None:
+    """Groups nest at most MAX_GROUP_DEPTH deep (flattening walks every level)."""
+    parents = {layer.id: layer.props.get("parent") for layer in layers if layer.kind == "group"}
+    for layer in layers:
+        depth, parent, seen = 0, layer.props.get("parent"), set()
+        while parent in parents and parent not in seen:  # a cycle reads as no deeper
+            seen.add(parent)
+            depth += 1
+            if depth > MAX_GROUP_DEPTH:
+                raise FormatProblem(
+                    f"{layer.where} sits in groups nested more than {MAX_GROUP_DEPTH} deep"
+                )
+            parent = parents[parent]
 
 
 def _parse_schema(value: Any) -> Schema:

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..material import Schema
 from ..ops import get_op
+from ..ops.spec import run_op
 from .blend import get_blend_mode, mean_of, weighted_mean
 from .filters import bind_filter, filter_reach
 from .geometry import Rect, TileLayout
@@ -349,7 +350,9 @@ class FilterLayer(Layer):
         values = self.op_params
         if window and "border" in values:
             values = {**values, "border": "clamp"}
-        return get_op(self.op).function(below, schema=schema, params=self.parameters, **values)
+        function = get_op(self.op).function
+        what = f"filter layer {self.name[:40]!r} ({self.op})"
+        return run_op(what, function, below, schema=schema, params=self.parameters, **values)
 
     def describe(self) -> dict[str, Any]:
         info = super().describe()

@@ -39,6 +39,7 @@ import numba
 import numpy as np
 
 from ._permutohedral import filter_tiles, key_primes, locate
+from .spec import OpError
 
 __all__ = ["BORDERS", "Guide", "bilateral_filter", "prepare_guide", "run_lattice"]
 
@@ -83,11 +84,11 @@ def _check_sigma(name: str, value: float) -> float:
     try:
         value = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"bilateral: {name} must be a number, got {value!r}") from None
+        raise OpError(f"bilateral: {name} must be a number, got {value!r}") from None
     if not math.isfinite(value):
-        raise ValueError(f"bilateral: {name} must be finite, got {value}")
+        raise OpError(f"bilateral: {name} must be finite, got {value}")
     if value <= 0:
-        raise ValueError(f"bilateral: {name} must be positive, got {value}")
+        raise OpError(f"bilateral: {name} must be positive, got {value}")
     return value
 
 
@@ -101,33 +102,33 @@ def _validate(
 ) -> tuple[np.ndarray, float, float, np.ndarray, int | None]:
     arr = np.asarray(image)
     if arr.ndim != 3 or arr.shape[0] == 0 or arr.shape[1] == 0 or arr.shape[2] == 0:
-        raise ValueError(f"bilateral: expected an (H, W, C) image, got shape {arr.shape}")
+        raise OpError(f"bilateral: expected an (H, W, C) image, got shape {arr.shape}")
     if arr.dtype.kind not in "fiub":
-        raise ValueError(f"bilateral: expected a numeric image, got dtype {arr.dtype}")
+        raise OpError(f"bilateral: expected a numeric image, got dtype {arr.dtype}")
     height, width, channels = arr.shape
     sigma_s = _check_sigma("sigma_space_px", sigma_space_px)
     sigma_r = _check_sigma("sigma_range", sigma_range)
     if sigma_s > min(height, width):
-        raise ValueError(
+        raise OpError(
             f"bilateral: sigma_space_px={sigma_s:g} is larger than the {width}x{height} image"
         )
     if border not in BORDERS:
-        raise ValueError(f"bilateral: border must be one of {BORDERS}, got {border!r}")
+        raise OpError(f"bilateral: border must be one of {BORDERS}, got {border!r}")
     if channel_weights is None:
         weights = np.ones(channels, dtype=np.float64)
     else:
         weights = np.asarray(channel_weights, dtype=np.float64)
         if weights.shape != (channels,):
-            raise ValueError(
+            raise OpError(
                 f"bilateral: channel_weights must have shape ({channels},), got {weights.shape}"
             )
         if not np.all(np.isfinite(weights)) or np.any(weights < 0):
-            raise ValueError("bilateral: channel_weights must be finite and non-negative")
+            raise OpError("bilateral: channel_weights must be finite and non-negative")
     if guide_dims is not None:
         if isinstance(guide_dims, bool) or not isinstance(guide_dims, int | np.integer):
-            raise ValueError(f"bilateral: guide_dims must be an integer, got {guide_dims!r}")
+            raise OpError(f"bilateral: guide_dims must be an integer, got {guide_dims!r}")
         if guide_dims < 1:
-            raise ValueError(f"bilateral: guide_dims must be at least 1, got {guide_dims}")
+            raise OpError(f"bilateral: guide_dims must be at least 1, got {guide_dims}")
         guide_dims = int(guide_dims)
     return arr, sigma_s, sigma_r, weights, guide_dims
 
@@ -285,7 +286,7 @@ def bilateral_filter(
     src = np.ascontiguousarray(arr, dtype=np.float32)
     # a float64 sum of float32 values cannot overflow: it is finite iff they all are
     if not math.isfinite(np.add.reduce(src, axis=None, dtype=np.float64)):
-        raise ValueError("bilateral: the image has non-finite values")
+        raise OpError("bilateral: the image has non-finite values")
     guide = prepare_guide(src, weights, sigma_r, guide_dims)
     return run_lattice(src, guide, sigma_s, border)
 

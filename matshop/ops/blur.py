@@ -94,9 +94,11 @@ def gaussian(image: np.ndarray, sigma_px: float, border: str) -> np.ndarray:
     if sigma_px == 0:
         return image.copy()
     image = np.ascontiguousarray(image)
+    radius = kernel_radius_px(sigma_px)
+    if radius == 0:  # a one-tap kernel (sigma below ~0.07 px) is the identity
+        return image.copy()
     if border == "clamp":
         return _blur(image, sigma_px, cv2.BORDER_REPLICATE)
-    radius = kernel_radius_px(sigma_px)
     if 4 * radius > min(image.shape[:2]):
         padded = pad(image, radius, border)
         blurred = _blur(padded, sigma_px, cv2.BORDER_ISOLATED)

@@ -25,8 +25,16 @@ ParamKind = Literal[
 ]
 
 
-class OpError(MatshopError):
-    """A bad op name or parameter value: one line naming the op and the parameter."""
+#: offsets beyond 16x the largest document side mean nothing more (and overflow int32)
+MAX_OFFSET_PX = 1 << 20
+
+
+class OpError(MatshopError, ValueError):
+    """A bad op name or parameter value: one line naming the op and the parameter.
+
+    Also a ValueError: the kernels' own argument checks raise it, and code
+    that calls them directly keeps catching ValueError.
+    """
 
 
 @dataclass(frozen=True)
@@ -71,7 +79,7 @@ class ParamSpec:
             if self.kind == "offset":  # "dx,dy"
                 dx, dy = (int(round(float(v))) for v in text.split(","))
                 return (dx, dy)
-        except ValueError:
+        except (ValueError, OverflowError):  # OverflowError: int(inf)
             raise OpError(f"{op}: {self.name}={text!r} is not a valid {self.kind}") from None
         if self.kind == "region":
             return _parse_region(text, op, self.name)
@@ -126,9 +134,28 @@ class ParamSpec:
             try:
                 dx, dy = value
                 value = (int(dx), int(dy))
-            except (TypeError, ValueError):
+            except (TypeError, ValueError, OverflowError):
                 raise OpError(f"{where} must be two whole numbers dx,dy, got {value!r}") from None
+            if max(abs(v) for v in value) > MAX_OFFSET_PX:
+                raise OpError(f"{where}={value} is outside [{-MAX_OFFSET_PX}, {MAX_OFFSET_PX}] px")
         return value
+
+
+def run_op(what: str, function: Callable[..., np.ndarray], *args: Any, **kwargs: Any) -> np.ndarray:
+    """``function(*args, **kwargs)`` if all its values are finite; else an
+    :class:`OpError` naming ``what`` (the op, or the filter layer running it).
+
+    Extreme but legal parameters can overflow; the result is refused where
+    it is made, so nothing non-finite reaches a layer, a file or the screen
+    (and the overflow itself is that error, not a warning).
+    """
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        result = function(*args, **kwargs)
+    finite = np.isfinite(result)
+    if not finite.all():
+        bad = int((~finite.reshape(*result.shape[:2], -1).all(axis=-1)).sum())
+        raise OpError(f"{what} produced NaN or infinite values in {bad} texel(s)")
+    return result
 
 
 def _validate_floats(

@@ -14,6 +14,7 @@ Dabs that cross the image edge wrap to the other side (tiling textures) unless
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Iterator
 from typing import Literal
 
@@ -26,6 +27,7 @@ from ..layers.history import History
 from ..layers.layer import PaintLayer
 from ..layers.tiles import TileGrid
 from ..layers.transaction import PaintTransaction
+from ..ops.spec import MAX_OFFSET_PX
 from .brush import Brush, dab_footprint
 from .stroke import Dab, Stroker, StrokeSample
 from .swatch import Swatch
@@ -94,6 +96,12 @@ class StrokeSession:
     ) -> None:
         if mode not in ("paint", "erase", "clone"):
             raise ValueError(f"unknown brush mode {mode!r} (paint, erase or clone)")
+        if target not in ("pixels", "mask"):
+            raise ValueError(f"unknown stroke target {target!r} (pixels or mask)")
+        if not all(math.isfinite(v) and abs(v) <= MAX_OFFSET_PX for v in clone_offset):
+            raise ValueError(
+                f"clone offset must be finite, within +-{MAX_OFFSET_PX} px, got {clone_offset}"
+            )
         layer = doc.layer(layer_id)
         if target == "pixels" and not isinstance(layer, PaintLayer):
             raise ValueError(f"layer {layer.name!r} is a {layer.kind} layer: paint into its mask")

@@ -31,6 +31,8 @@ class PressureCurve:
         for x, y in points:
             if not (0.0 <= x <= 1.0 and 0.0 <= y <= 1.0):
                 raise ValueError(f"pressure curve points must lie in [0, 1]^2, got ({x:g}, {y:g})")
+        if any(b[0] <= a[0] for a, b in zip(points, points[1:], strict=False)):
+            raise ValueError("pressure curve points need strictly increasing pressures")
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "_lut", curve_lut(points))
 
@@ -41,4 +43,5 @@ class PressureCurve:
     def __call__(self, pressure: float) -> float:
         lut = self._lut  # type: ignore[attr-defined]
         position = min(max(float(pressure), 0.0), 1.0) * (lut.size - 1)
-        return float(np.interp(position, np.arange(lut.size), lut))
+        # the curve's straight continuation past its end points may leave [0, 1]
+        return min(max(float(np.interp(position, np.arange(lut.size), lut)), 0.0), 1.0)

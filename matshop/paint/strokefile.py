@@ -21,6 +21,7 @@ texels from the top-left corner; pressure defaults to 1.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -33,6 +34,11 @@ from .stroke import StrokeSample
 from .swatch import Swatch
 
 MAX_POINTS = 1_000_000
+#: coordinates beyond 16x the largest document side mean nothing more
+MAX_COORD_PX = float(1 << 20)
+#: dabs one stroke may place (its path length over the brush's smallest step):
+#: a stroke across a 65536-texel document at the finest spacing fits (~160 us a dab)
+MAX_DABS = 250_000
 _BRUSH_NUMBERS = ("radius_px", "hardness", "spacing", "opacity", "flow")
 _STROKE_KEYS = {
     "layer",
@@ -89,8 +95,24 @@ def _samples(points: Any) -> list[StrokeSample]:
         ok = isinstance(point, list) and len(point) in (2, 3)
         if not ok or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in point):
             raise ValueError(f"bad point {point!r}: expected [x, y] or [x, y, pressure]")
-        samples.append(StrokeSample(*(float(v) for v in point)))
+        sample = StrokeSample(*(float(v) for v in point))
+        if max(abs(sample.x), abs(sample.y)) > MAX_COORD_PX:
+            raise ValueError(f"point {point!r} lies beyond +-{MAX_COORD_PX:g} texels")
+        samples.append(sample)
     return samples
+
+
+def _check_dabs(samples: list[StrokeSample], brush: Brush) -> None:
+    """Refuse a stroke whose dabs would take unbounded time (points far apart)."""
+    # the curves are monotone, so the smallest step is at one end of the pressure range
+    step = min(brush.step_at(0.0), brush.step_at(1.0))
+    pairs = zip(samples, samples[1:], strict=False)
+    length = sum(math.dist((a.x, a.y), (b.x, b.y)) for a, b in pairs)
+    if length / step > MAX_DABS:
+        raise ValueError(
+            f"the stroke is {length:.3g} texels long: about {length / step:.3g} dabs at its "
+            f"spacing, more than {MAX_DABS}"
+        )
 
 
 def parse_stroke(data: Any) -> StrokeSpec:
@@ -111,7 +133,7 @@ def parse_stroke(data: Any) -> StrokeSpec:
         offset = data["clone_offset"]
         if not (isinstance(offset, list) and len(offset) == 2):
             raise ValueError("clone_offset must be [dx, dy]")
-        options["clone_offset"] = (float(offset[0]), float(offset[1]))
+        options["clone_offset"] = (float(offset[0]), float(offset[1]))  # checked when painted
     if "wrap" in data:
         if not isinstance(data["wrap"], bool):
             raise ValueError("wrap must be true or false")
@@ -119,7 +141,9 @@ def parse_stroke(data: Any) -> StrokeSpec:
     layer = data.get("layer")
     if layer is not None and (isinstance(layer, bool) or not isinstance(layer, str | int)):
         raise ValueError("layer must be a layer name or id")
-    return StrokeSpec(layer, _samples(data.get("points")), _brush(data.get("brush")), options)
+    samples, brush = _samples(data.get("points")), _brush(data.get("brush"))
+    _check_dabs(samples, brush)
+    return StrokeSpec(layer, samples, brush, options)
 
 
 def load_strokes(path: str | Path) -> list[StrokeSpec]:

@@ -64,14 +64,20 @@ class Swatch:
         for param in schema.parameters:
             if param.name not in self.values:
                 continue
-            phys = np.asarray(self.values[param.name], dtype=np.float32)
+            with np.errstate(over="ignore"):  # too large for float32: refused below
+                phys = np.asarray(self.values[param.name], dtype=np.float32)
+            if not np.isfinite(phys).all():
+                raise ValueError(f"swatch {self.name!r}: {param.name} values are out of range")
             if phys.size != param.phys_channels:
                 raise ValueError(
                     f"swatch {self.name!r}: {param.name} needs {param.phys_channels} "
                     f"value(s), got {phys.size}"
                 )
             where = schema.edit_slices[param.name]
-            vector[where] = param.space.to_edit(phys.reshape(1, 1, -1))[0, 0]
+            with np.errstate(all="ignore"):  # an overflow shows as non-finite: refused below
+                vector[where] = param.space.to_edit(phys.reshape(1, 1, -1))[0, 0]
+            if not np.isfinite(vector[where]).all():
+                raise ValueError(f"swatch {self.name!r}: {param.name} values are out of range")
             channels.extend(range(where.start, where.stop))
         return vector, np.asarray(channels, dtype=np.intp)
 

@@ -94,12 +94,14 @@ def add_parsers(verbs: Any) -> None:
 
 
 def _floats(text: str, what: str) -> list[float]:
+    from ..cli import check_number
     from ..errors import MatshopError
 
     try:
-        return [float(v) for v in text.split(",")]
+        values = [float(v) for v in text.split(",")]
     except ValueError:
         raise MatshopError(f"{what} expects comma-separated numbers, got {text!r}") from None
+    return [check_number(v, what, -1e6, 1e6) for v in values]
 
 
 def parse_light(text: str):
@@ -122,7 +124,7 @@ def parse_light(text: str):
 def _cmd_render(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..cli import load_options
+    from ..cli import check_number, load_options
     from ..errors import MatshopError
     from ..io.images import write_image
     from ..io.inputs import load_flattened
@@ -152,9 +154,9 @@ def _cmd_render(args: argparse.Namespace) -> int:
             raise MatshopError(f"--background expects R,G,B, got {args.background!r}")
         background = tuple(rgb)
     options = {}
+    check_number(args.exposure, "--exposure", -64.0, 64.0)
     if args.tiles is not None:
-        if args.tiles <= 0:
-            raise MatshopError(f"--tiles must be positive, got {args.tiles}")
+        check_number(args.tiles, "--tiles", 1e-3, 1e4)
         # a sphere is twice as long around as from pole to pole
         options["tiles"] = (args.tiles, args.tiles / 2.0) if scene == "sphere" else args.tiles
     material = load_flattened(args.input, **load_options(args))

@@ -416,7 +416,7 @@ def guess_normal_convention(rgb: np.ndarray) -> tuple[Convention, float]:
     if arr.ndim != 3 or arr.shape[-1] != 3:
         raise ValueError(f"guess_normal_convention: expected an (H, W, 3) image, got {arr.shape}")
     if arr.shape[0] < 2 or arr.shape[1] < 2:
-        raise ValueError(f"guess_normal_convention: need at least 2x2 texels, got {arr.shape[:2]}")
+        return "opengl", 0.0  # no 2x2 square, no curl: a tie
     n = decode_normal_map(arr, convention="opengl").astype(np.float64)
     nz = np.maximum(n[..., 2], 0.05)
     p = -n[..., 0] / nz
