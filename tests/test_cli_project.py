@@ -157,7 +157,7 @@ def test_an_empty_project_of_a_given_size(tmp_path: Path) -> None:
         (["layer", "set", "PROJECT", "Nope", "opacity=1"], "no layer named 'Nope'"),
         (["layer", "remove", "PROJECT", "99"], "no layer with id 99"),
         (["paint", "PROJECT", "--stroke", "STROKE"], "no paint layer"),
-        (["flatten", "MISSING", "OUT"], "missing.matshop: no such file"),
+        (["flatten", "MISSING", "OUT"], "missing.matshop: file not found"),
     ],
 )
 def test_bad_requests_are_one_line_and_leave_the_project_alone(

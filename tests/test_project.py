@@ -546,9 +546,9 @@ def test_memory_limit_is_configurable(valid_project: bytes, tmp_path: Path) -> N
 
 
 def test_missing_file_and_directory(tmp_path: Path) -> None:
-    with pytest.raises(MatshopError, match="no such file"):
+    with pytest.raises(MatshopError, match="file not found"):
         load_project(tmp_path / "nope.matshop")
-    with pytest.raises(MatshopError, match="is a directory"):
+    with pytest.raises(MatshopError, match="is a folder"):
         load_project(tmp_path)
 
 

@@ -17,6 +17,7 @@ import scipy.sparse
 
 from ..errors import MatshopError
 from ..material import EditMaterial, Material
+from ..memory import require_memory
 
 _LOBES = 3
 
@@ -79,6 +80,11 @@ def resize_material(material: Material, size_hw: tuple[int, int]) -> Material:
     """``material`` resampled to ``size_hw``, filtered in editing space."""
     if tuple(size_hw) == tuple(material.size):
         return material
+    (out_h, out_w), (_, in_w) = size_hw, material.size
+    channels = material.schema.edit_width
+    # float64 passes (rows, then columns) and the float32 maps either side
+    need = 8 * channels * (2 * out_h * out_w + out_h * in_w) + 8 * channels * out_h * out_w
+    require_memory(need, f"resampling to {out_w}x{out_h}")
     edit = material.to_edit()
     smaller = EditMaterial(edit.name, edit.schema, resize_array(edit.data, size_hw), edit.sources)
     resized = smaller.to_physical()

@@ -24,6 +24,8 @@ import OpenImageIO as oiio
 
 from matshop.errors import MatshopError
 from matshop.io.atomic import atomic_target
+from matshop.io.guard import check_input_file, check_text_name
+from matshop.memory import require_memory
 
 #: Default guard against corrupt headers: refuse images with more pixels than
 #: this (16384 x 16384, a 16K texture) before allocating anything. A file may
@@ -161,7 +163,7 @@ def write_image(
     ``png_level`` is PNG's zlib level, 0-9 (default :data:`PNG_LEVEL`).
     The write is atomic: on failure any previous file at ``path`` is intact.
     """
-    path = Path(path)
+    path = check_text_name(path)  # OpenImageIO takes text paths only
     pixels = _prepare(path, array, bit_depth)
     h, w, c = pixels.shape
     fmt = _WRITABLE[path.suffix.lower()]
@@ -199,15 +201,12 @@ def default_channel_names(channels: int) -> tuple[str, ...]:
 
 def _open(path: Path, max_pixels: int) -> tuple[oiio.ImageInput, ImageInfo]:
     """Open ``path`` for reading (unassociated alpha) and vet its header."""
-    if not path.exists():
-        raise MatshopError("file not found", path)
-    if path.is_dir():
-        raise MatshopError("is a directory, not an image file", path)
-    if path.stat().st_size == 0:
+    if check_input_file(path, "image file").st_size == 0:
         raise MatshopError("empty file (0 bytes), not an image", path)
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
-    inp = oiio.ImageInput.open(str(path), config)
+    with _c_stderr_silenced():  # libpng reports a bad header on fd 2 too
+        inp = oiio.ImageInput.open(str(path), config)
     if inp is None:
         raise MatshopError(f"not a readable image: {oiio.geterror() or 'unknown format'}", path)
     try:
@@ -249,6 +248,8 @@ def _check_size(info: ImageInfo, depth: int, max_pixels: int) -> None:
             f"{max_pixels} pixels (max_pixels); the file is probably corrupt",
             info.path,
         )
+    # float32 result plus the decoded native buffer (a small PNG can declare a huge image)
+    require_memory(w * h * c * 8, f"reading its {w}x{h}x{c} pixels", info.path)
 
 
 def _check_finite(pixels: np.ndarray, path: Path, verb: str) -> None:

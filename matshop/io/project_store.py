@@ -32,7 +32,9 @@ import numpy as np
 from ..errors import MatshopError
 from ..layers import Document, Layer
 from ..layers.tiles import TileGrid, freeze
+from ..memory import require_memory
 from .atomic import atomic_target
+from .guard import check_input_file
 from .project_check import (
     ArraySpec,
     GridSpec,
@@ -164,10 +166,7 @@ def read_project(path: str | os.PathLike[str], max_bytes: int = DEFAULT_MAX_BYTE
 
 
 def _open_archive(path: Path) -> zipfile.ZipFile:
-    if not path.exists():
-        raise MatshopError("no such file", path)
-    if path.is_dir():
-        raise MatshopError("is a directory, not a project file", path)
+    check_input_file(path, "project file")  # a FIFO or a device would block or never end
     try:
         archive = zipfile.ZipFile(path, "r")
     except zipfile.BadZipFile:
@@ -246,6 +245,10 @@ def _check_members(
             f"it would take {total / 2**30:.1f} GiB of memory, more than the limit of "
             f"{max_bytes / 2**30:.1f} GiB"
         )
+    try:  # each member is read whole, then copied into tiles: about twice its size
+        require_memory(2 * total, "loading its layers")
+    except MatshopError as exc:
+        raise FormatProblem(exc.problem, standalone=True) from None
     infos: dict[str, zipfile.ZipInfo] = {}
     for ref in refs:
         try:

@@ -225,16 +225,17 @@ class Compositor:
             block = self.background(rect) if start == 0 else self.composite(start, rect)
         # the input of each group that opens in this run, saved as the run passes it
         opening = {}
+        starts = self.doc.group_starts()
         for index in range(start, count):
             if isinstance(layers[index], GroupLayer):
-                opening.setdefault(self.doc.group_start(index), []).append(index)
+                opening.setdefault(starts[index], []).append(index)
         inputs: dict[int, np.ndarray] = {}
         for index in range(first, count):
             layer = layers[index]
             if index in opening:
                 inputs[index] = block.copy()
             if isinstance(layer, GroupLayer):
-                first = self.doc.group_start(index)
+                first = starts[index]
                 below = inputs.get(first)
                 if below is None:  # the group opened under this run's start: read the cache
                     below = self.composite(first, rect)

@@ -22,6 +22,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ..material import EditMaterial, Material, Schema
+from ..memory import require_memory
 from .compositor import Compositor
 from .events import DirtyRegion, DocumentEvents
 from .filters import bind_filter
@@ -73,6 +74,9 @@ class Document:
             np.array(np.broadcast_to(np.asarray(fill, np.float32), (schema.edit_width,)))
         )
         self.layers: list[Layer] = []
+        #: the layers by id (kept by insert/remove: finding a group is O(1), so
+        #: flattening thousands of grouped layers stays linear)
+        self._by_id: dict[int, Layer] = {}
         self.events = DocumentEvents()
         self._next_id = 1
         self._compositor = Compositor(self)
@@ -211,10 +215,8 @@ class Document:
     def _parent_of(self, layer: Layer) -> GroupLayer | None:
         if layer.parent is None:
             return None
-        for other in self.layers:
-            if other.id == layer.parent:
-                return other if isinstance(other, GroupLayer) else None
-        return None  # its group was removed: the layer stands on its own
+        other = self._by_id.get(layer.parent)  # None: its group was removed
+        return other if isinstance(other, GroupLayer) else None
 
     def shows(self, layer: Layer) -> bool:
         """Visible, and so is every group it belongs to."""
@@ -243,12 +245,22 @@ class Document:
 
         The group mixes everything from there up to itself with its input.
         """
-        group = self.layers[index]
-        start = index
-        for below in range(index - 1, -1, -1):
-            if self.in_group(self.layers[below], group.id):
-                start = below
-        return start
+        return self.group_starts()[index]
+
+    def group_starts(self) -> dict[int, int]:
+        """:meth:`group_start` of every group, by index, in one pass over the stack."""
+        index_of = {layer.id: i for i, layer in enumerate(self.layers)}
+        starts = {i: i for i, layer in enumerate(self.layers) if isinstance(layer, GroupLayer)}
+        for below, layer in enumerate(self.layers):
+            seen = set()
+            group = self._parent_of(layer)
+            while group is not None and group.id not in seen:
+                seen.add(group.id)
+                index = index_of[group.id]
+                if below < index:
+                    starts[index] = min(starts[index], below)
+                group = self._parent_of(group)
+        return starts
 
     def grid(self, layer_id: int, target: Target) -> TileGrid:
         """The tile grid an edit on ``target`` of a layer addresses."""
@@ -307,6 +319,7 @@ class Document:
         if not 0 <= index <= len(self.layers):
             raise IndexError(f"layer index {index} outside 0..{len(self.layers)}")
         self.layers.insert(index, layer)
+        self._by_id[layer.id] = layer
         # a layer made elsewhere (a loaded project) keeps its id; new ones follow it,
         # and its group's id too, so a removed group's id is never given out again
         self._next_id = max(self._next_id, layer.id + 1, (layer.parent or 0) + 1)
@@ -326,6 +339,7 @@ class Document:
         layer = self.layers[index]
         shown = self.shows(layer)
         self.layers.pop(index)
+        del self._by_id[layer_id]
         self._compositor.drop_checkpoint(layer_id)
         if self._regroups(layer):
             dirty = self._restructured()
@@ -446,7 +460,15 @@ class Document:
 
     def flatten(self, *, copy: bool = True) -> EditMaterial:
         """The flattened document as an :class:`EditMaterial`."""
+        self._require_flatten_memory()
         return EditMaterial(self.name, self.schema, self.flatten_edit(copy=copy))
+
+    def _require_flatten_memory(self) -> None:
+        """Refuse a whole-document flatten that cannot fit (a tiny file may declare 16K)."""
+        phys = sum(p.phys_channels for p in self.schema.parameters)
+        # edit cache, one working block and the copy; physical cache and its copy
+        need = 4 * self.height * self.width * (3 * self.channels + 2 * phys)
+        require_memory(need, f"flattening this {self.width}x{self.height} document")
 
     def physical(self, rect: Rect | None = None, *, copy: bool = True) -> dict[str, np.ndarray]:
         """Physical maps (after ``from_edit``) per parameter over ``rect``."""
@@ -460,6 +482,7 @@ class Document:
 
     def flatten_physical(self, *, copy: bool = True) -> Material:
         """The flattened document as a physical :class:`Material` (ready to export)."""
+        self._require_flatten_memory()
         return Material(self.name, self.schema, self.physical(copy=copy), dict(self.sources))
 
     def update(self) -> TileSet:

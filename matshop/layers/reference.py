@@ -32,8 +32,9 @@ def flatten_reference(doc: Document) -> np.ndarray:
     group_inputs: dict[int, list[np.ndarray]] = {}
     starts = {}
     for index, layer in enumerate(doc.layers):
-        if isinstance(layer, GroupLayer):
-            starts.setdefault(doc.group_start(index), []).append(index)
+        if isinstance(layer, GroupLayer):  # brute force, apart from Document.group_starts
+            below = [b for b in range(index) if doc.in_group(doc.layers[b], layer.id)]
+            starts.setdefault(min(below, default=index), []).append(index)
     for index, layer in enumerate(doc.layers):
         for group_index in starts.get(index, ()):
             group_inputs[group_index] = image.copy()
