@@ -9,22 +9,24 @@ from __future__ import annotations
 
 import contextlib
 import os
-import secrets
 from collections.abc import Iterator
 from pathlib import Path
 
 from matshop.errors import MatshopError
+from matshop.io.leftovers import clean_leftovers, owner_tag
 
 
 def temp_path_for(path: Path) -> Path:
     """A fresh hidden name beside ``path`` that keeps its extension last.
 
-    ``dir/name.png`` -> ``dir/.name.tmp-1a2b3c4d.png`` (OpenImageIO picks the
-    format from the extension, so the real one must stay at the end). The stem
+    ``dir/name.png`` -> ``dir/.name.tmp-<pid>-1a2b3c4d.png`` (OpenImageIO picks the
+    format from the extension, so the real one must stay at the end; the pid
+    lets :func:`~matshop.io.leftovers.clean_leftovers` tell a dead writer's
+    file from a live one's). The stem
     is cut short so that a target name near the file system's limit still has a
     temp name.
     """
-    return path.with_name(f".{path.stem[:100]}.tmp-{secrets.token_hex(4)}{path.suffix[:20]}")
+    return path.with_name(f".{path.stem[:100]}.tmp-{owner_tag()}{path.suffix[:20]}")
 
 
 @contextlib.contextmanager
@@ -40,6 +42,7 @@ def atomic_target(path: str | os.PathLike[str]) -> Iterator[Path]:
         raise MatshopError("is a directory, not a file", target)
     if not target.parent.is_dir():
         raise MatshopError(f"cannot write: folder {target.parent} does not exist", target)
+    clean_leftovers(target.parent)  # temp files of killed saves, not of running ones
     tmp = temp_path_for(target)
     try:
         os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import MatshopError
+from .leftovers import BACKUP_DIR, PLAN_NAME, clean_leftovers
 from .safe_names import check_file_name
 
 
@@ -37,10 +38,13 @@ class PendingFile:
 
 def check_targets(out_dir: Path, names: Sequence[str], *, force: bool) -> None:
     """Refuse clashes with existing files (without ``force``) and bad folders."""
+    clean_leftovers(out_dir)  # a killed writer's staging folder: its renames are rolled back
     if out_dir.exists() and not out_dir.is_dir():
         raise MatshopError("output exists and is not a folder", out_dir)
     for name in names:  # the last gate: no name may lead out of out_dir
         check_file_name(name, out_dir)
+        if name in (PLAN_NAME, BACKUP_DIR):
+            raise MatshopError(f"refusing to write: {name!r} is matshop's own", out_dir)
     if len(set(names)) != len(names):
         raise MatshopError("the export would write one file name twice", out_dir)
     existing = [n for n in names if (out_dir / n).exists()]
@@ -76,7 +80,7 @@ def write_all(
     created = not out.exists()
     try:
         out.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".matshop-staging-", dir=out))
+        staging = Path(tempfile.mkdtemp(prefix=f".matshop-staging-{os.getpid()}-", dir=out))
     except OSError as exc:
         raise MatshopError(f"cannot write here: {exc.strerror or exc}", out) from None
     try:
@@ -103,8 +107,15 @@ def write_all(
 
 
 def _move_into_place(staging: Path, out: Path, names: Sequence[str]) -> list[Path]:
-    backup = staging / ".previous"
+    backup = staging / BACKUP_DIR
     backup.mkdir()
+    # the plan, durable before the first rename: if this process dies half way,
+    # the next writer here rolls the folder back from it (leftovers.roll_back)
+    plan = staging / PLAN_NAME
+    with open(plan, "w", encoding="utf-8") as file:
+        file.write("\n".join(names))
+        file.flush()
+        os.fsync(file.fileno())
     kept: list[str] = []
     moved: list[str] = []
     try:
@@ -129,6 +140,7 @@ def _move_into_place(staging: Path, out: Path, names: Sequence[str]) -> list[Pat
             os.fsync(fd)  # make the renames durable
         finally:
             os.close(fd)
+    plan.unlink()  # done: from here on a leftover staging folder means nothing to undo
     return [out / name for name in names]
 
 
