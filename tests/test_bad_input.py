@@ -90,7 +90,7 @@ def test_a_tiny_blur_filter_layer_saves_and_flattens(sets: dict, tmp_path: Path)
     assert main(["flatten", str(project), str(tmp_path / "out")]) == 0
     # sigma 0.05 px is a one-tap kernel: the flattened set is the source set
     flat = sorted(p.name for p in (tmp_path / "out").iterdir())
-    assert flat == ["m_basecolor.png", "m_normal.png", "m_roughness.png"]
+    assert flat == ["m_basecolor.png", "m_normal_gl.png", "m_roughness.png"]
     from matshop.io.images import read_image
 
     for name in ("basecolor", "roughness"):
