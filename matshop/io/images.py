@@ -122,6 +122,12 @@ def read_image(
     """
     path = Path(path)
     inp, info = _open(path, max_pixels)
+    try:  # float32 result plus the decoded buffer: a small PNG can declare a huge image
+        w, h, c = info.width, info.height, info.channels
+        require_memory(w * h * c * 8, f"reading its {w}x{h}x{c} pixels", path)
+    except MatshopError:
+        inp.close()
+        raise
     # 8/16-bit codes are divided here so that ``code / 255`` is correctly rounded
     # (OpenImageIO multiplies by 1/255, one ulp off) and writes round-trip exactly.
     native = info.bit_depth in ("uint8", "uint16") and not inp.spec().channelformats
@@ -248,8 +254,6 @@ def _check_size(info: ImageInfo, depth: int, max_pixels: int) -> None:
             f"{max_pixels} pixels (max_pixels); the file is probably corrupt",
             info.path,
         )
-    # float32 result plus the decoded native buffer (a small PNG can declare a huge image)
-    require_memory(w * h * c * 8, f"reading its {w}x{h}x{c} pixels", info.path)
 
 
 def _check_finite(pixels: np.ndarray, path: Path, verb: str) -> None:
