@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import io
 import json
 import os
@@ -636,7 +637,9 @@ def test_tampered_manifests_load_or_fail_cleanly(tiny_project: bytes, tmp_path: 
         if data.draw(st.booleans(), label="delete"):
             del parent[where[-1]]
         else:
-            parent[where[-1]] = data.draw(JSON_VALUES, label="value")
+            # a copy: PLAUSIBLE hands out the same list objects, which would nest into
+            # themselves (a cycle) and change between examples
+            parent[where[-1]] = copy.deepcopy(data.draw(JSON_VALUES, label="value"))
     members["manifest.json"] = json.dumps(manifest).encode()
     _load_or_clean_error(tmp_path, _rezip(members))
 
