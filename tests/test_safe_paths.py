@@ -246,3 +246,13 @@ def test_safe_stems_are_bounded_plain_and_stable() -> None:
         assert safe_stem(stem) == stem
     assert safe_stem("ok_name-1.2") == "ok_name-1.2"
     assert len(("n" * 5000).encode()) > MAX_FILE_NAME_BYTES
+
+
+def test_safe_stems_keep_names_in_any_script_within_a_byte_bound() -> None:
+    """Umlauts and CJK names are safe on every file system: keep them, bounded in bytes."""
+    assert safe_stem("Holz_Oberfläche") == "Holz_Oberfläche"
+    assert safe_stem("木材 の 床") == "木材_の_床"
+    long = safe_stem("木" * 300)
+    assert long == "木" * 33 and len(long.encode()) <= 100  # 3 bytes each, cut whole
+    assert safe_stem("a\udcffb") == "a_b"  # a lone surrogate (undecodable bytes) is unsafe
+    assert check_file_name(safe_stem("é" * 400) + "_basecolor.png")

@@ -4,9 +4,10 @@ Names written into an output folder are built from data (a material's name
 from a manifest or a folder, a preset's ``fileName`` template, ``--name``).
 That data must never decide *where* matshop writes, so:
 
-- :func:`safe_stem` turns any text into a plain stem (ASCII letters, digits,
-  ``_ . -``; no separator, no leading dot, no control character, bounded
-  length), used for the ``{material}`` part of every written name;
+- :func:`safe_stem` turns any text into a plain stem (letters and digits of
+  any script, ``_ . -``; no separator, no leading dot, no control character,
+  bounded length in bytes), used for the ``{material}`` part of every written
+  name;
 - :func:`check_file_name` is the last gate in :mod:`matshop.io.fileset`: a
   name that is not one plain entry of the output folder is refused before
   anything is written, whatever code built it.
@@ -15,32 +16,38 @@ That data must never decide *where* matshop writes, so:
 from __future__ import annotations
 
 import re
+import unicodedata
 
 from ..errors import MatshopError
 
 #: the stem leaves room for ``_<tag>.<ext>`` and the writer's temp-file affixes
-#: within the 255-byte file-name limit of common file systems
-MAX_STEM_CHARS = 100
+#: within the 255-byte file-name limit of common file systems (UTF-8 bytes)
+MAX_STEM_BYTES = 100
 #: the longest written file name (temp names add ~20 characters to it)
 MAX_FILE_NAME_BYTES = 200
 
-_UNSAFE = re.compile(r"[^A-Za-z0-9_.\-]+")
+#: anything but letters and digits of any script, ``_``, ``.`` and ``-``
+_UNSAFE = re.compile(r"[^\w.\-]+")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
 
 
 def safe_stem(name: object, fallback: str = "material") -> str:
     """``name`` as a plain file-name stem: unsafe runs become ``_``, dots and
-    separators cannot lead, at most :data:`MAX_STEM_CHARS` characters.
+    separators cannot lead, at most :data:`MAX_STEM_BYTES` bytes of UTF-8.
 
     >>> safe_stem("../../ESCAPED")
     'ESCAPED'
     >>> safe_stem("/home/me/.bashrc")
     'home_me_.bashrc'
+    >>> safe_stem("Holz_Oberfläche")
+    'Holz_Oberfläche'
     >>> safe_stem("")
     'material'
     """
-    text = _UNSAFE.sub("_", str(name)).strip("._-")
-    return text[:MAX_STEM_CHARS].rstrip("._-") or fallback
+    text = _UNSAFE.sub("_", unicodedata.normalize("NFC", str(name))).strip("._-")
+    # cut on a character boundary: a partial UTF-8 sequence is dropped
+    text = text.encode("utf-8", "ignore")[:MAX_STEM_BYTES].decode("utf-8", "ignore")
+    return text.rstrip("._-") or fallback
 
 
 def file_name_problem(name: object) -> str | None:
