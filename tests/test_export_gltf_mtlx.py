@@ -69,8 +69,15 @@ def _embedded_image(doc: pygltflib.GLTF2, index: int, scratch: Path) -> np.ndarr
     return read_image(scratch)[0]
 
 
-def test_glb_on_the_shared_sphere_validates_and_reads_back(small: Material, tmp_path: Path) -> None:
-    mesh = SPHERE if SPHERE.is_file() else None  # else the built-in UV sphere
+@pytest.mark.parametrize("mesh_name", ["built-in sphere", "shared sphere.obj"])
+def test_glb_on_a_sphere_validates_and_reads_back(
+    small: Material, tmp_path: Path, mesh_name: str
+) -> None:
+    mesh = None  # the built-in UV sphere
+    if mesh_name.startswith("shared"):
+        if not SPHERE.is_file():
+            pytest.skip(f"{SPHERE} not present (the shared data folder)")
+        mesh = SPHERE
     summary = export_material(small, "gltf", tmp_path, glb=True, mesh=mesh)
     glb = summary.file(".glb")
     report = validate_gltf(glb)

@@ -161,10 +161,13 @@ def test_removing_a_hidden_group_releases_its_members() -> None:
     add(doc, history, fill(doc, 0.5), 1)
     history.push(SetProperty(doc.layers[1].id, "parent", group.id))
     hidden = check(doc)
+    base = doc.layers[0].source
+    assert np.array_equal(hidden, base)  # a hidden group hides its members
     from matshop.layers import RemoveLayer
 
     history.push(RemoveLayer(group.id))
-    assert not np.array_equal(check(doc), hidden)
+    # released, the opaque fill shows in every parameter: exactly its value
+    assert np.array_equal(check(doc), np.full_like(base, 0.5))
     history.undo()
     assert np.array_equal(check(doc), hidden)
 

@@ -146,24 +146,29 @@ def test_gl_image_matches_the_reference_renderer(viewport, material):
     assert errors["background_max"] <= 1.0
 
 
-def test_hardware_filtering_and_the_shared_sphere_stay_close(viewport, material):
-    """Per-pixel mip levels (the interactive default) and the 60-segment shared OBJ sphere
-    differ from the reference's analytic sphere and single prefilter level: measured, with
-    looser bounds (faceted normals show along silhouettes and triangle edges)."""
+def test_hardware_filtering_stays_close(viewport, material):
+    """Per-pixel mip levels (the interactive default) differ from the reference's single
+    prefilter level: measured, with a looser bound."""
     ref = _reference(material)
     auto = _errors(_gl(viewport, material, lod=None), ref)
     print(f"GL vs reference, hardware mip selection: {auto}")
     # measured mean 3.1, p95 14: the hardware picks finer levels in the middle and much
     # coarser ones towards the rim than the reference's single level
     assert auto["mean"] <= 5.0
-    if SPHERE_OBJ.is_file():
-        gl = _gl(
-            viewport, material, lod=_reference_lod(material), mesh=mesh_data.load_mesh(SPHERE_OBJ)
-        )
-        _save("viewport_gl_obj_sphere_vs_reference.png", gl, ref)
-        obj = _errors(gl, ref)
-        print(f"GL (shared sphere.obj) vs reference: {obj}")
-        assert obj["mean"] <= 2.0  # measured 1.27
+
+
+def test_the_shared_obj_sphere_stays_close(viewport, material) -> None:
+    """The 60-segment shared OBJ sphere against the reference's analytic sphere: faceted
+    normals show along silhouettes and triangle edges (measured mean 1.27 on the
+    chessboard, 1.58 on the sample)."""
+    if not SPHERE_OBJ.is_file():
+        pytest.skip(f"{SPHERE_OBJ} not present (the shared data folder)")
+    ref = _reference(material)
+    gl = _gl(viewport, material, lod=_reference_lod(material), mesh=mesh_data.load_mesh(SPHERE_OBJ))
+    _save("viewport_gl_obj_sphere_vs_reference.png", gl, ref)
+    obj = _errors(gl, ref)
+    print(f"GL (shared sphere.obj) vs reference: {obj}")
+    assert obj["mean"] <= 2.0
 
 
 @pytest.mark.parametrize(
