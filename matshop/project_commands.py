@@ -230,14 +230,69 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
         index = doc.index_of(group.id)  # members sit just below their group
     if index is not None and not 0 <= index <= len(doc):
         raise MatshopError(f"--index must be 0 to {len(doc)}", args.project)
+    generated = None
+    if getattr(args, "mask_generator", None):
+        if args.mask is not None:
+            raise MatshopError("give --mask or --mask-generator, not both")
+        generated = _generated_mask(doc, args.mask_generator, args.project)
     history.push(AddLayer(layer, index))
     if args.mask is not None:
         from .api import load_mask
 
         history.push(SetMask(layer.id, doc.new_mask(array=load_mask(args.mask, doc.size))))
+    if generated is not None:
+        history.push(SetMask(layer.id, doc.new_mask(array=generated[..., None])))
     save_project(doc, args.project, settings=settings)
     print(f"added {layer.kind} layer {layer.id} {layer.name!r}")
     return 0
+
+
+_GENERATOR_OPTIONS = {
+    "radius_px": float,
+    "level": float,
+    "contrast": float,
+    "blur_px": float,
+    "invert": lambda text: _boolean("invert", text),
+}
+
+
+def _boolean(name: str, text: str) -> bool:
+    value = text.strip().lower()
+    if value not in ("true", "false", "1", "0", "yes", "no"):
+        raise MatshopError(f"--mask-generator {name} must be true or false, got {text!r}")
+    return value in ("true", "1", "yes")
+
+
+def _generated_mask(doc: Document, words: Sequence[str], project: Path) -> np.ndarray:
+    """The --mask-generator mask (H, W) from the document's normals as they are now."""
+    from .ops.generators import GENERATORS, generate_mask
+
+    name, *pairs = words
+    if name not in GENERATORS:
+        raise MatshopError(f"--mask-generator must be one of {', '.join(GENERATORS)}, got {name!r}")
+    if "normal" not in doc.schema.names:
+        raise MatshopError(
+            f"--mask-generator {name} needs a normal map; the project has none", project
+        )
+    options = {}
+    for pair in pairs:
+        key, sep, text = pair.partition("=")
+        if not sep or key not in _GENERATOR_OPTIONS:
+            raise MatshopError(
+                f"--mask-generator takes {', '.join(f'{k}=...' for k in _GENERATOR_OPTIONS)}, "
+                f"got {pair!r}"
+            )
+        try:
+            options[key] = _GENERATOR_OPTIONS[key](text)
+        except ValueError:
+            raise MatshopError(f"--mask-generator {key} must be a number, got {text!r}") from None
+        if key != "invert" and not np.isfinite(options[key]):
+            raise MatshopError(f"--mask-generator {key} must be finite, got {text!r}")
+    normals = doc.physical()["normal"][..., :3]
+    try:
+        return generate_mask(normals, name, **options)
+    except ValueError as exc:
+        raise MatshopError(f"--mask-generator: {exc}") from None
 
 
 def cmd_layer_list(args: argparse.Namespace) -> int:

@@ -74,6 +74,14 @@ def add_parsers(verbs: Any) -> None:
         "--op", nargs="+", metavar=("NAME", "KEY=VALUE"), help="filter: the op and its parameters"
     )
     add.add_argument("--mask", type=Path, help="grayscale image as the layer's mask")
+    add.add_argument(
+        "--mask-generator",
+        nargs="+",
+        metavar=("NAME", "KEY=VALUE"),
+        help="a mask generated from the material's normals as they are when the layer is "
+        "added: cavity, edge or ao, with radius_px (4), level (0.5), contrast (1), "
+        "blur_px (0), invert (false); e.g. --mask-generator cavity radius_px=6 contrast=2",
+    )
     add.set_defaults(verb_module=VERB_MODULE, action="layer-add")
 
     listing = actions.add_parser("list", help="list the layers, bottom to top")
