@@ -12,30 +12,15 @@ import shutil
 from pathlib import Path
 
 import numpy as np
-import OpenImageIO as oiio
+from oracle import file_codes as codes
+from oracle import srgb_decode as decode
+from oracle import srgb_encode as encode
 from scipy.interpolate import PchipInterpolator
 
 import matshop
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
 POINTS = [(0.0, 0.0), (0.25, 0.1), (0.6, 0.75), (1.0, 1.0)]
-
-
-def codes(path: Path) -> np.ndarray:
-    image = oiio.ImageInput.open(str(path))
-    assert image is not None, oiio.geterror()
-    pixels = np.asarray(image.read_image(0, 0, 0, image.spec().nchannels, "uint8"))
-    image.close()
-    return pixels.reshape(*pixels.shape[:2], -1).astype(np.float64)
-
-
-def decode(v: np.ndarray) -> np.ndarray:
-    return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
-
-
-def encode(x: np.ndarray) -> np.ndarray:
-    x = np.clip(x, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
 
 
 def curve(t: np.ndarray) -> np.ndarray:

@@ -13,22 +13,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import OpenImageIO as oiio
 import pytest
+from oracle import file_codes as codes
 
 from matshop.cli import main
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
-
-
-def codes(path: Path) -> np.ndarray:
-    config = oiio.ImageSpec()
-    config.attribute("oiio:UnassociatedAlpha", 1)
-    image = oiio.ImageInput.open(str(path), config)
-    assert image is not None, oiio.geterror()
-    pixels = np.asarray(image.read_image(0, 0, 0, image.spec().nchannels, "uint8"))
-    image.close()
-    return pixels.astype(int).reshape(*pixels.shape[:2], -1)
 
 
 def source(tag: str, channel: int = 0) -> np.ndarray:

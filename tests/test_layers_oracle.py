@@ -14,7 +14,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import OpenImageIO as oiio
+from oracle import file_codes as _codes
+from oracle import srgb_encode
 
 from matshop.cli import main
 from matshop.io.project import save_project
@@ -23,11 +24,6 @@ from matshop.material import Schema
 
 SCHEMA = Schema.from_names(["base_color", "metallic", "ao"])  # 3 + 1 + 1 edit channels
 BC, MET, AO = slice(0, 3), 3, 4
-
-
-def srgb_encode(linear: np.ndarray) -> np.ndarray:
-    linear = np.clip(linear, 0.0, 1.0)
-    return np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * np.power(linear, 1 / 2.4) - 0.055)
 
 
 def build() -> Document:
@@ -104,14 +100,6 @@ def test_stack_flattens_to_the_hand_computed_texels() -> None:
     np.testing.assert_allclose(physical["base_color"][0], srgb_encode(want[:, BC]), atol=2e-6)
     np.testing.assert_allclose(physical["metallic"][0, :, 0], want[:, MET], atol=2e-6)
     np.testing.assert_allclose(physical["ao"][0, :, 0], np.clip(want[:, AO], 0, 1), atol=2e-6)
-
-
-def _codes(path: Path) -> np.ndarray:
-    image = oiio.ImageInput.open(str(path))
-    assert image is not None, oiio.geterror()
-    pixels = image.read_image(0, 0, 0, image.spec().nchannels, "uint8")
-    image.close()
-    return np.asarray(pixels).astype(int)
 
 
 def test_the_saved_project_flattens_to_the_same_texels_on_disk(tmp_path: Path) -> None:

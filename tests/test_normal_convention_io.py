@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio
 import pytest
+from oracle import file_codes as codes
 
 from matshop.cli import main
 from matshop.io.material_io import load_material
@@ -20,20 +21,6 @@ from matshop.io.project import load_project
 from matshop.spaces.frame import CONFIDENT_GUESS, guess_normal_convention
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
-
-
-def codes(path: Path) -> np.ndarray:
-    """The file's integer codes, read by OpenImageIO itself (unassociated alpha)."""
-    config = oiio.ImageSpec()
-    config.attribute("oiio:UnassociatedAlpha", 1)
-    image = oiio.ImageInput.open(str(path), config)
-    assert image is not None, oiio.geterror()
-    spec = image.spec()
-    pixels = image.read_image(
-        0, 0, 0, spec.nchannels, "uint8" if spec.format == "uint8" else "float"
-    )
-    image.close()
-    return np.asarray(pixels)
 
 
 def unit(codes_rgb: np.ndarray, *, directx: bool, scale: float = 255.0) -> np.ndarray:
@@ -60,7 +47,7 @@ def dx_set(tmp_path: Path) -> Path:
     dx[..., 1] = 255 - gl[..., 1]
     out = oiio.ImageOutput.create(str(folder / "tiles_nor_dx.png"))
     out.open(str(folder / "tiles_nor_dx.png"), oiio.ImageSpec(dx.shape[1], dx.shape[0], 3, "uint8"))
-    out.write_image(dx)
+    out.write_image(dx.astype(np.uint8))
     out.close()
     return folder
 
