@@ -189,6 +189,30 @@ def test_bad_stroke_files_are_one_line_and_paint_nothing(
     assert project.read_bytes() == saved
 
 
+def test_a_stroke_file_is_bounded_in_dabs_as_a_whole(
+    sets: dict, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Three strokes of ~100 000 dabs each: each is allowed, the file (300 000) is not."""
+    project = tmp_path / "p.matshop"
+    project.write_bytes(sets["project"].read_bytes())
+    fine = {**STROKE, "brush": {"radius_px": 0.5, "spacing": 0.01}, "points": [[0, 0], [5e4, 0]]}
+    strokes = tmp_path / "s.json"
+    strokes.write_text(json.dumps({"strokes": [fine] * 3}))
+    saved = project.read_bytes()
+    err = refuses(["paint", project, "--stroke", strokes], capfd, strokes, "3 strokes")
+    assert "dabs" in err and project.read_bytes() == saved
+
+
+def test_a_preset_writes_a_bounded_number_of_files(
+    sets: dict, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    preset = tmp_path / "preset.json"
+    maps = [{"channel": f"c{n}", "srcMapName": "roughness"} for n in range(65)]
+    preset.write_text(json.dumps({"name": "many", "maps": maps}))
+    refuses(["export", sets["small"], tmp_path / "out", "--preset-file", preset], capfd, "65 maps")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["preset.json"]
+
+
 def _deep_json(depth: int) -> str:
     return "[" * depth + "]" * depth
 

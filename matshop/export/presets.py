@@ -80,6 +80,8 @@ _BIT_DEPTHS = {
     "float": "float",
 }
 _CHANNEL_LETTERS = {"R": 0, "G": 1, "B": 2, "A": 3, "X": 0, "Y": 1, "Z": 2, "L": 0}
+#: files one preset may write (engines use a handful)
+MAX_MAPS = 64
 _TEMPLATE_FIELDS = frozenset({"material", "channel", "ext", "preset"})
 _TEMPLATE_TOKEN = re.compile(r"\{([^{}]*)\}")
 _TRANSFORMS = ("none", "invert")
@@ -216,6 +218,8 @@ def parse_preset(data: dict[str, Any], *, origin: str = "built-in") -> Preset:
     maps = data.get("maps")
     if not isinstance(maps, list) or not maps:
         raise fail("needs a non-empty list 'maps'")
+    if len(maps) > MAX_MAPS:  # each is a file to pack and write
+        raise fail(f"has {len(maps)} maps, more than {MAX_MAPS}")
     outputs = []
     for index, entry in enumerate(maps):
         if not isinstance(entry, dict):

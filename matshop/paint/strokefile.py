@@ -36,7 +36,7 @@ from .swatch import Swatch
 MAX_POINTS = 1_000_000
 #: coordinates beyond 16x the largest document side mean nothing more
 MAX_COORD_PX = float(1 << 20)
-#: dabs one stroke may place (its path length over the brush's smallest step):
+#: dabs one stroke file may place (path lengths over the brush's smallest step):
 #: a stroke across a 65536-texel document at the finest spacing fits (~160 us a dab)
 MAX_DABS = 250_000
 _BRUSH_NUMBERS = ("radius_px", "hardness", "spacing", "opacity", "flow")
@@ -61,6 +61,8 @@ class StrokeSpec:
     samples: list[StrokeSample]
     brush: Brush
     options: dict[str, Any] = field(default_factory=dict)
+    #: at most this many dabs (bounds the time painting it takes)
+    dabs: float = 0.0
 
 
 def _brush(data: Any) -> Brush:
@@ -102,17 +104,16 @@ def _samples(points: Any) -> list[StrokeSample]:
     return samples
 
 
-def _check_dabs(samples: list[StrokeSample], brush: Brush) -> None:
-    """Refuse a stroke whose dabs would take unbounded time (points far apart)."""
+def _dab_estimate(samples: list[StrokeSample], brush: Brush) -> float:
+    """How many dabs a stroke places at most: its path over the brush's smallest step."""
     # the curves are monotone, so the smallest step is at one end of the pressure range
     step = min(brush.step_at(0.0), brush.step_at(1.0))
     pairs = zip(samples, samples[1:], strict=False)
-    length = sum(math.dist((a.x, a.y), (b.x, b.y)) for a, b in pairs)
-    if length / step > MAX_DABS:
-        raise ValueError(
-            f"the stroke is {length:.3g} texels long: about {length / step:.3g} dabs at its "
-            f"spacing, more than {MAX_DABS}"
-        )
+    return 1 + sum(math.dist((a.x, a.y), (b.x, b.y)) for a, b in pairs) / step
+
+
+def _too_many_dabs(dabs: float, what: str) -> str:
+    return f"{what} would place about {dabs:.3g} dabs at its brush spacing, more than {MAX_DABS}"
 
 
 def parse_stroke(data: Any) -> StrokeSpec:
@@ -142,8 +143,10 @@ def parse_stroke(data: Any) -> StrokeSpec:
     if layer is not None and (isinstance(layer, bool) or not isinstance(layer, str | int)):
         raise ValueError("layer must be a layer name or id")
     samples, brush = _samples(data.get("points")), _brush(data.get("brush"))
-    _check_dabs(samples, brush)
-    return StrokeSpec(layer, samples, brush, options)
+    dabs = _dab_estimate(samples, brush)
+    if dabs > MAX_DABS:  # points far apart: refused before painting, not after minutes
+        raise ValueError(_too_many_dabs(dabs, "the stroke"))
+    return StrokeSpec(layer, samples, brush, options, dabs)
 
 
 def load_strokes(path: str | Path) -> list[StrokeSpec]:
@@ -161,4 +164,7 @@ def load_strokes(path: str | Path) -> list[StrokeSpec]:
             raise MatshopError(f"stroke {number}: {exc}", path) from None
     if not strokes:
         raise MatshopError("no strokes in the file", path)
+    total = sum(stroke.dabs for stroke in strokes)
+    if total > MAX_DABS:
+        raise MatshopError(_too_many_dabs(total, f"the file's {len(strokes)} strokes"), path)
     return strokes
