@@ -5,7 +5,21 @@ from __future__ import annotations
 import os
 import sys
 
+import pytest
+
 _exit_status = 0
+
+
+@pytest.fixture(scope="module")
+def gl_context(request):
+    """An offscreen OpenGL 3.3 core context for the GL test modules (skips when none)."""
+    from matshop.viewport.gl.context import GLUnavailable, OffscreenContext
+
+    request.getfixturevalue("qapp")
+    try:
+        return OffscreenContext()
+    except GLUnavailable as exc:
+        pytest.skip(f"no OpenGL 3.3 core context can be created here: {exc}")
 
 
 def pytest_addoption(parser) -> None:

@@ -32,6 +32,8 @@ install_default_format()
 if no_display_reason() is not None:  # before pytest-qt starts Qt
     pytest.skip(no_display_reason(), allow_module_level=True)
 
+from gl_testing import shown_viewport  # noqa: E402
+
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import AddLayer, Document, History  # noqa: E402
 from matshop.paint import Brush, StrokeSample, StrokeSession, Swatch  # noqa: E402
@@ -41,7 +43,6 @@ from matshop.render.render import render  # noqa: E402
 from matshop.render.surface import prefilter_factor  # noqa: E402
 from matshop.render.tonemap import to_uint8  # noqa: E402
 from matshop.viewport.gl import mesh_data, shading_maps  # noqa: E402
-from matshop.viewport.gl.context import GLUnavailable, OffscreenContext  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CHESSBOARD = ROOT.parent / "shared" / "data" / "chessboard"
@@ -53,25 +54,9 @@ SAMPLES = 16
 LIGHT = DirectionalLight((-0.5, 0.7, 0.6), (2.0, 2.0, 2.0))
 
 
-@pytest.fixture(scope="module")
-def gl_context(request):
-    request.getfixturevalue("qapp")
-    try:
-        return OffscreenContext()
-    except GLUnavailable as exc:
-        pytest.skip(f"no OpenGL 3.3 core context can be created here: {exc}")
-
-
 @pytest.fixture
 def viewport(gl_context, qtbot):
-    from matshop.viewport.gl.view import MaterialViewport
-
-    widget = MaterialViewport()
-    widget.resize(SIZE, SIZE)
-    qtbot.addWidget(widget)
-    widget.show()
-    qtbot.waitExposed(widget)
-    return widget
+    return shown_viewport(qtbot, SIZE)
 
 
 @pytest.fixture(scope="module", params=["sample", "chessboard"])

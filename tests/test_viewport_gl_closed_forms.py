@@ -31,12 +31,13 @@ install_default_format()  # before pytest-qt creates the QApplication
 if no_display_reason() is not None:
     pytest.skip(no_display_reason(), allow_module_level=True)
 
+from gl_testing import shown_viewport  # noqa: E402
+
 from matshop.layers import Document  # noqa: E402
 from matshop.material import Material, Schema  # noqa: E402
 from matshop.render.environment import uniform  # noqa: E402
 from matshop.render.integrator import DirectionalLight  # noqa: E402
 from matshop.viewport.gl import mesh_data  # noqa: E402
-from matshop.viewport.gl.context import GLUnavailable, OffscreenContext  # noqa: E402
 
 SIZE = 192
 
@@ -65,24 +66,9 @@ def white(*, metallic: float, roughness: float) -> Material:
     return Material("white", Schema.from_names(list(maps)), maps)
 
 
-@pytest.fixture(scope="module")
-def gl_context(request):
-    request.getfixturevalue("qapp")
-    try:
-        return OffscreenContext()
-    except GLUnavailable as exc:
-        pytest.skip(f"no OpenGL 3.3 core context can be created here: {exc}")
-
-
 @pytest.fixture
 def viewport(gl_context, qtbot):
-    from matshop.viewport.gl.view import MaterialViewport
-
-    widget = MaterialViewport()
-    widget.resize(SIZE, SIZE)
-    qtbot.addWidget(widget)
-    widget.show()
-    qtbot.waitExposed(widget)
+    widget = shown_viewport(qtbot, SIZE)
     widget.set_mesh(mesh_data.uv_sphere())
     widget.lighting.background = (0.0, 0.0, 0.0)  # the sphere is what is not black
     widget.lighting.samples = 64

@@ -32,6 +32,8 @@ install_default_format()
 if no_display_reason() is not None:  # before pytest-qt starts Qt
     pytest.skip(no_display_reason(), allow_module_level=True)
 
+from gl_testing import shown_viewport  # noqa: E402
+
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import Document  # noqa: E402
 from matshop.material import Material  # noqa: E402
@@ -43,7 +45,6 @@ from matshop.render.surface import prefilter_factor  # noqa: E402
 from matshop.render.synthetic import with_lobe  # noqa: E402
 from matshop.render.tonemap import to_uint8  # noqa: E402
 from matshop.viewport.gl import mesh_data  # noqa: E402
-from matshop.viewport.gl.context import GLUnavailable, OffscreenContext  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CHESSBOARD = ROOT.parent / "shared" / "data" / "chessboard"
@@ -74,25 +75,9 @@ SAMPLED_MEAN_TOLERANCE = 0.8
 SAMPLED_P99_TOLERANCE = 4.0
 
 
-@pytest.fixture(scope="module")
-def gl_context(request):
-    request.getfixturevalue("qapp")
-    try:
-        return OffscreenContext()
-    except GLUnavailable as exc:
-        pytest.skip(f"no OpenGL 3.3 core context can be created here: {exc}")
-
-
 @pytest.fixture
 def viewport(gl_context, qtbot):
-    from matshop.viewport.gl.view import MaterialViewport
-
-    widget = MaterialViewport()
-    widget.resize(SIZE, SIZE)
-    qtbot.addWidget(widget)
-    widget.show()
-    qtbot.waitExposed(widget)
-    return widget
+    return shown_viewport(qtbot, SIZE)
 
 
 @pytest.fixture(scope="module", params=["sample", "chessboard"])

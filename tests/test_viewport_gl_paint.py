@@ -32,7 +32,6 @@ from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import AddLayer, Document, History  # noqa: E402
 from matshop.paint import Brush, Swatch  # noqa: E402
-from matshop.viewport.gl.context import GLUnavailable, OffscreenContext  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "resources" / "sample"
@@ -48,15 +47,6 @@ RED = Swatch(
         "ao": (1.0,),
     },
 )
-
-
-@pytest.fixture(scope="module")
-def gl_context(request):
-    request.getfixturevalue("qapp")
-    try:
-        return OffscreenContext()
-    except GLUnavailable as exc:
-        pytest.skip(f"no OpenGL 3.3 core context can be created here: {exc}")
 
 
 @pytest.fixture

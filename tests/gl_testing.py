@@ -1,0 +1,18 @@
+"""A shown OpenGL viewport for the GL test modules (their ``gl_context`` fixture is in
+conftest.py); import after the module has called ``install_default_format()`` and
+skipped itself when ``no_display_reason()`` says no context can be made.
+"""
+
+from __future__ import annotations
+
+
+def shown_viewport(qtbot, size: int):
+    """A :class:`MaterialViewport` of ``size`` x ``size``, shown and exposed."""
+    from matshop.viewport.gl.view import MaterialViewport
+
+    widget = MaterialViewport()
+    widget.resize(size, size)
+    qtbot.addWidget(widget)
+    widget.show()
+    qtbot.waitExposed(widget)
+    return widget
