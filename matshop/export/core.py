@@ -19,6 +19,7 @@ import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,10 +29,14 @@ from ..io.images import probe_image, write_image
 from ..io.normal_convention import CONVENTION_ATTRIBUTE
 from ..io.safe_names import safe_stem
 from ..material import Material
+from .obj import Mesh, read_obj, uv_sphere
 from .pack import is_written, pack_output, plan_missing
 from .presets import OutputSpec, Preset, load_preset
 from .quantize import quantize
 from .resize import is_power_of_two, resize_material, target_size
+
+if TYPE_CHECKING:
+    import MaterialX as mx
 
 
 @dataclass(frozen=True)
@@ -113,6 +118,8 @@ def export_material(
     glb: bool = False,
     mesh: str | os.PathLike | None = None,
     mtlx: bool = False,
+    usd: bool = False,
+    usdz: bool = False,
     seed: int = 0,
 ) -> ExportSummary:
     """Write ``material`` as ``preset`` says into ``out_dir``.
@@ -129,8 +136,13 @@ def export_material(
     force : replace existing files.
     glb : also write ``<name>.glb`` (glTF binary: the material, glTF-packed
         PNG textures embedded, on ``mesh`` or the unit sphere).
-    mesh : a Wavefront OBJ for the ``.glb`` (default: a UV sphere).
+    mesh : a Wavefront OBJ for the ``.glb`` and ``.usda`` (default: a UV sphere).
     mtlx : also write ``<name>.mtlx`` (MaterialX gltf_pbr referencing the textures).
+    usd : also write ``<name>.usda``: the mesh, bound to a Material with a
+        UsdPreviewSurface reading the textures and the MaterialX document as
+        its ``mtlx`` render context (:mod:`.usd`).
+    usdz : also write ``<name>.usdz``, the ``.usda`` and its textures packaged
+        (implies ``usd``).
     seed : dithering noise seed.
 
     Raises
@@ -156,8 +168,17 @@ def export_material(
     warnings = [m.message() for m in missing]
     # refuse clashes before the costly part (resampling, packing)
     names = [o.file_for(name, preset.name) for o in outputs]
+    usd = usd or usdz
     names += [f"{name}.glb"] * glb + [f"{name}.mtlx"] * mtlx
+    names += [f"{name}.usda"] * usd + [f"{name}.usdz"] * usdz
     check_targets(out, names, force=force)
+    texture_files = {o.channel: o.file_for(name, preset.name) for o in outputs}
+    geometry = _geometry(mesh) if glb or usd else None  # bad meshes fail before any work
+    mtlx_doc = None
+    if mtlx or usd:
+        from .mtlx import checked_document
+
+        mtlx_doc = checked_document(preset, outputs, texture_files, name)
 
     if size is not None:
         material = resize_material(material, target_size(material.size, size))
@@ -167,29 +188,58 @@ def export_material(
 
     pending: list[PendingFile] = []
     written: list[WrittenFile] = []
-    texture_files: dict[str, str] = {}
     for output in outputs:
-        file_name = output.file_for(name, preset.name)
-        texture_files[output.channel] = file_name
+        file_name = texture_files[output.channel]
         writer = _texture_writer(material, output, preset, seed, file_name, warnings)
         pending.append(PendingFile(file_name, writer))
         written.append(WrittenFile(out / file_name, "texture", describe_output(output)))
     if glb:
         from .gltf import glb_writer
 
-        pending.append(PendingFile(f"{name}.glb", glb_writer(material, name, mesh, seed=seed)))
+        pending.append(PendingFile(f"{name}.glb", glb_writer(material, name, geometry, seed=seed)))
         written.append(WrittenFile(out / f"{name}.glb", "gltf", "glTF binary: material and mesh"))
     if mtlx:
         from .mtlx import mtlx_writer
 
-        pending.append(
-            PendingFile(f"{name}.mtlx", mtlx_writer(preset, outputs, texture_files, name))
-        )
+        pending.append(PendingFile(f"{name}.mtlx", mtlx_writer(mtlx_doc)))
         written.append(WrittenFile(out / f"{name}.mtlx", "mtlx", "MaterialX gltf_pbr document"))
+    if usd:
+        pending += _usd_files(name, geometry, preset, outputs, texture_files, mtlx_doc, usdz)
+        written.append(
+            WrittenFile(out / f"{name}.usda", "usd", "USD: mesh, UsdPreviewSurface and MaterialX")
+        )
+        if usdz:
+            written.append(WrittenFile(out / f"{name}.usdz", "usd", "USDZ package"))
     write_all(out, pending, force=force)
     summary = ExportSummary(preset.name, name, out, material.size, warnings=warnings)
     summary.files = [_with_detail(w) for w in written]
     return summary
+
+
+def _geometry(mesh: str | os.PathLike | None) -> Mesh:
+    return read_obj(mesh) if mesh is not None else uv_sphere()
+
+
+def _usd_files(
+    name: str,
+    geometry: Mesh,
+    preset: Preset,
+    outputs: list[OutputSpec],
+    texture_files: dict[str, str],
+    mtlx_doc: mx.Document,
+    usdz: bool,
+) -> list[PendingFile]:
+    """The ``.usda`` (and ``.usdz``) writers; the stage is built (and a usdz
+    refused) now, before anything is written."""
+    from .usd import build_stage, check_usdz_files, referenced_files, usda_writer, usdz_writer
+
+    stage = build_stage(name, geometry, preset, outputs, texture_files, mtlx_doc)
+    files = [PendingFile(f"{name}.usda", usda_writer(stage))]
+    if usdz:
+        textures = referenced_files(stage)
+        check_usdz_files(textures)
+        files.append(PendingFile(f"{name}.usdz", usdz_writer(f"{name}.usda", textures)))
+    return files
 
 
 def _texture_writer(

@@ -16,7 +16,6 @@ and glTF's ``alpha_t = mix(alpha_b, 1, strength^2)``.
 
 from __future__ import annotations
 
-import os
 import zlib
 from collections.abc import Callable
 from pathlib import Path
@@ -26,7 +25,7 @@ import pygltflib as gl
 
 from ..io.images import write_image
 from ..material import Material
-from .obj import Mesh, read_obj, tangents, uv_sphere
+from .obj import Mesh, tangents
 from .pack import has_parameter, pack_output
 from .presets import load_preset
 from .quantize import quantize
@@ -167,10 +166,9 @@ def _png_bytes(array: np.ndarray, scratch: Path, *, seed: int, dither: bool = Tr
 
 
 def glb_writer(
-    material: Material, name: str, mesh: str | os.PathLike | None, *, seed: int = 0
+    material: Material, name: str, geometry: Mesh, *, seed: int = 0
 ) -> Callable[[Path], None]:
-    """A writer (for :mod:`matshop.io.fileset`) of ``material`` as a ``.glb`` on ``mesh``."""
-    geometry = read_obj(mesh) if mesh is not None else uv_sphere()  # parse before any writing
+    """A writer (for :mod:`matshop.io.fileset`) of ``material`` as a ``.glb`` on ``geometry``."""
 
     def write(path: Path) -> None:
         preset = load_preset("gltf")

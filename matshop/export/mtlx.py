@@ -16,7 +16,7 @@ from pathlib import Path
 
 import MaterialX as mx
 
-from .presets import OutputSpec, Preset
+from .presets import OutputSpec, Preset, locate
 
 #: gltf_pbr input, its type, and the matshop parameter feeding it
 _SHADER_INPUTS = (
@@ -29,18 +29,6 @@ _SHADER_INPUTS = (
     ("alpha", "float", "opacity"),
 )
 _IMAGE_TYPES = {1: "float", 3: "color3", 4: "color4"}
-
-
-def _where(outputs: Sequence[OutputSpec], param: str) -> tuple[OutputSpec, int | None, bool] | None:
-    """(output, channel or None for the whole file, inverted) of the first holder."""
-    for output in outputs:
-        if output.channels is None and output.source == param:
-            return output, None, False
-    for output in outputs:
-        for spec in output.channels or ():
-            if spec.source == param:
-                return output, spec.dest, spec.transform == "invert"
-    return None
 
 
 def build_document(
@@ -65,7 +53,7 @@ def build_document(
         return images[key]
 
     for shader_input, kind, param in _SHADER_INPUTS:
-        found = _where(outputs, param)
+        found = locate(outputs, param)
         if found is None:
             continue
         output, channel, inverted = found
@@ -123,14 +111,19 @@ def validate(doc: mx.Document) -> tuple[bool, str]:
     return doc.validate()
 
 
-def mtlx_writer(
+def checked_document(
     preset: Preset, outputs: Sequence[OutputSpec], files: dict[str, str], name: str
-) -> Callable[[Path], None]:
-    """A writer (for :mod:`matshop.io.fileset`) of the ``.mtlx`` document."""
+) -> mx.Document:
+    """:func:`build_document`, validated (its data library stays set)."""
     doc = build_document(preset, outputs, files, name)
     valid, message = validate(doc)
     if not valid:  # a bug, not a user error: our documents must always validate
         raise RuntimeError(f"generated MaterialX document is invalid: {message}")
+    return doc
+
+
+def mtlx_writer(doc: mx.Document) -> Callable[[Path], None]:
+    """A writer (for :mod:`matshop.io.fileset`) of the ``.mtlx`` document."""
 
     def write(path: Path) -> None:
         path.write_text(mx.writeToXmlString(doc), encoding="utf-8")

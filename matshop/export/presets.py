@@ -44,6 +44,7 @@ import json
 import os
 import re
 import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -153,6 +154,21 @@ class Preset:
             if out.channel == channel:
                 return out
         raise KeyError(f"preset {self.name!r} has no output {channel!r}")
+
+
+def locate(
+    outputs: Sequence[OutputSpec], param: str
+) -> tuple[OutputSpec, int | None, bool] | None:
+    """Where ``param`` is written: (output, channel or None for the whole file,
+    inverted), a whole-parameter file winning over a packed channel; None if nowhere."""
+    for output in outputs:
+        if output.channels is None and output.source == param:
+            return output, None, False
+    for output in outputs:
+        for spec in output.channels or ():
+            if spec.source == param:
+                return output, spec.dest, spec.transform == "invert"
+    return None
 
 
 # ---------------------------------------------------------------------------

@@ -22,20 +22,13 @@ from ..material import PARAMETER_KINDS, Material, Schema
 from ..spaces.color import linear_to_srgb
 from ..spaces.frame import decode_normal_map
 from .pack import is_written
-from .presets import COLOR_PARAMETERS, OutputSpec, Preset, load_preset
+from .presets import COLOR_PARAMETERS, OutputSpec, Preset, load_preset, locate
 
 
 def _locations(preset: Preset) -> dict[str, tuple[OutputSpec, int | None, bool]]:
     """parameter -> (output, channel or None for the whole file, inverted)."""
-    found: dict[str, tuple[OutputSpec, int | None, bool]] = {}
-    for output in preset.outputs:  # whole-parameter files first
-        if output.channels is None and output.source and output.source not in found:
-            found[output.source] = (output, None, False)
-    for output in preset.outputs:
-        for spec in output.channels or ():
-            if spec.source is not None and spec.source not in found:
-                found[spec.source] = (output, spec.dest, spec.transform == "invert")
-    return found
+    params = dict.fromkeys(p for output in preset.outputs for p in output.sources)
+    return {p: found for p in params if (found := locate(preset.outputs, p)) is not None}
 
 
 def reimport(

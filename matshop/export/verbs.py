@@ -24,6 +24,7 @@ _EPILOG = """\
 examples:
   matshop export in/ out/ --preset unreal
   matshop export in/ out/ --preset gltf --glb --mtlx --size 1024
+  matshop export in/ out/ --preset unreal --usdz --mesh model.obj
   matshop export in/ out/ --preset-file studio.toml --strict
   matshop export --list-presets
 """
@@ -55,9 +56,20 @@ def add_parsers(verbs: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--name", help="material name in file names (default: the set's name)")
     parser.add_argument("--glb", action="store_true", help="also write <name>.glb with a mesh")
-    parser.add_argument("--mesh", type=Path, help="Wavefront OBJ for --glb (default: a UV sphere)")
+    parser.add_argument(
+        "--mesh", type=Path, help="Wavefront OBJ for --glb and --usd (default: a UV sphere)"
+    )
     parser.add_argument(
         "--mtlx", action="store_true", help="also write <name>.mtlx (MaterialX gltf_pbr)"
+    )
+    parser.add_argument(
+        "--usd",
+        action="store_true",
+        help="also write <name>.usda: the mesh with a UsdPreviewSurface material reading the "
+        "textures and the MaterialX material as its mtlx render context",
+    )
+    parser.add_argument(
+        "--usdz", action="store_true", help="also write <name>.usdz (the .usda and its textures)"
     )
     parser.add_argument(
         "--strict",
@@ -83,8 +95,8 @@ def run(args: argparse.Namespace) -> int:
         raise MatshopError("export needs IN and OUT (or --list-presets)")
     if (args.preset is None) == (args.preset_file is None):
         raise MatshopError("give exactly one of --preset NAME or --preset-file FILE")
-    if args.mesh is not None and not args.glb:
-        raise MatshopError("--mesh is only used with --glb")
+    if args.mesh is not None and not (args.glb or args.usd or args.usdz):
+        raise MatshopError("--mesh is only used with --glb, --usd or --usdz")
     preset = load_preset(args.preset, path=args.preset_file)
 
     from ..cli import load_options
@@ -104,6 +116,8 @@ def run(args: argparse.Namespace) -> int:
         glb=args.glb,
         mesh=args.mesh,
         mtlx=args.mtlx,
+        usd=args.usd,
+        usdz=args.usdz,
     )
     read_as = convention_line(material.sources)
     for line in ([read_as] if read_as else []) + summary.lines():
