@@ -61,6 +61,12 @@ def texture_reading(surface: UsdShade.Shader, name: str) -> tuple[UsdShade.Shade
     return texture, output
 
 
+def input_or(shader: UsdShade.Shader, name: str, fallback: tuple) -> np.ndarray:
+    """An input's authored value, else the spec's fallback."""
+    value = shader.GetInput(name)
+    return np.asarray(value.Get() if value else fallback, dtype=np.float64)
+
+
 def errors_and_warnings(path: Path) -> tuple[list[str], set[str]]:
     findings = validate_usd(path)
     return [str(f) for f in findings if f.severity == "Error"], {
@@ -99,13 +105,8 @@ def test_every_preset_validates_and_reads_back_the_source(
         reader = UsdShade.Shader(st_source.GetPrim())
         assert reader.GetIdAttr().Get() == "UsdPrimvarReader_float2"
         assert reader.GetInput("varname").Get() == "st"
-
-        def input_or(name: str, default: tuple) -> np.ndarray:
-            value = texture.GetInput(name)
-            return np.asarray(value.Get() if value else default, dtype=np.float64)
-
-        scale = input_or("scale", (1, 1, 1, 1))
-        bias = input_or("bias", (0, 0, 0, 0))
+        scale = input_or(texture, "scale", (1, 1, 1, 1))
+        bias = input_or(texture, "bias", (0, 0, 0, 0))
         texels = read_texels(tmp_path / file.removeprefix("./"))
         picks = [0, 1, 2] if channel == "rgb" else ["rgba".index(channel)]
         value = texels[..., picks] * scale[picks] + bias[picks]  # what the shader reads
@@ -245,6 +246,18 @@ def test_cli_writes_usd(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     printed = capsys.readouterr().out
     for name in ("tiles.usda", "tiles.usdz", "tiles_ORM.png"):
         assert name in printed and (out / name).is_file()
-    assert main(["export", str(SAMPLE), str(tmp_path / "o2"), "--preset", "gltf", "--mesh",
-                 str(tmp_path / "m.obj")]) == 2
+    assert (
+        main(
+            [
+                "export",
+                str(SAMPLE),
+                str(tmp_path / "o2"),
+                "--preset",
+                "gltf",
+                "--mesh",
+                str(tmp_path / "m.obj"),
+            ]
+        )
+        == 2
+    )
     assert "--mesh is only used with" in capsys.readouterr().err

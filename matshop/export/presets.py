@@ -156,9 +156,7 @@ class Preset:
         raise KeyError(f"preset {self.name!r} has no output {channel!r}")
 
 
-def locate(
-    outputs: Sequence[OutputSpec], param: str
-) -> tuple[OutputSpec, int | None, bool] | None:
+def locate(outputs: Sequence[OutputSpec], param: str) -> tuple[OutputSpec, int | None, bool] | None:
     """Where ``param`` is written: (output, channel or None for the whole file,
     inverted), a whole-parameter file winning over a packed channel; None if nowhere."""
     for output in outputs:

@@ -84,13 +84,13 @@ def _mesh(stage: Usd.Stage, path: Sdf.Path, mesh: Mesh) -> UsdGeom.Mesh:
     usd_mesh.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
     primvars = UsdGeom.PrimvarsAPI(usd_mesh)
     st = np.stack([mesh.uvs[:, 0], 1.0 - mesh.uvs[:, 1]], axis=1).astype(np.float32)
-    primvars.CreatePrimvar(
-        "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex
-    ).Set(Vt.Vec2fArray.FromNumpy(st))
+    primvars.CreatePrimvar("st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex).Set(
+        Vt.Vec2fArray.FromNumpy(st)
+    )
     frame = tangents(mesh)
-    primvars.CreatePrimvar(
-        "tangents", Sdf.ValueTypeNames.Float3Array, UsdGeom.Tokens.vertex
-    ).Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(frame[:, :3])))
+    primvars.CreatePrimvar("tangents", Sdf.ValueTypeNames.Float3Array, UsdGeom.Tokens.vertex).Set(
+        Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(frame[:, :3]))
+    )
     primvars.CreatePrimvar(
         "tangentSigns", Sdf.ValueTypeNames.FloatArray, UsdGeom.Tokens.vertex
     ).Set(Vt.FloatArray.FromNumpy(np.ascontiguousarray(frame[:, 3])))
@@ -149,4 +149,3 @@ def usdz_writer(usda_name: str, textures: Sequence[str]) -> Callable[[Path], Non
         writer.Save()
 
     return write
-
