@@ -14,6 +14,8 @@ import subprocess
 from pathlib import Path
 
 import MaterialX as mx
+import MaterialX.PyMaterialXGenGlsl as mx_gen_glsl
+import MaterialX.PyMaterialXGenShader as mx_gen_shader
 import numpy as np
 import pygltflib
 import pytest
@@ -21,7 +23,7 @@ import pytest
 from matshop.cli import main
 from matshop.export.core import export_material
 from matshop.export.mtlx import validate
-from matshop.export.presets import builtin_preset_names
+from matshop.export.presets import builtin_preset_names, load_preset
 from matshop.io.images import read_image
 from matshop.io.material_io import load_material
 from matshop.material import Material, Schema
@@ -145,11 +147,68 @@ def test_anisotropic_material_gets_tangents_and_khr_anisotropy(tmp_path: Path) -
     np.testing.assert_allclose(alpha_b + (1 - alpha_b) * s**2, alpha_t, atol=0.01)
 
 
-@pytest.mark.parametrize("preset_name", builtin_preset_names())
-def test_materialx_document_validates_and_references_the_exported_files(
-    preset_name: str, small: Material, tmp_path: Path
+#: each model's inputs for (base color, metallic, roughness, normal, emission), per its nodedef
+MODEL_INPUTS = {
+    "open_pbr_surface": (
+        "base_color",
+        "base_metalness",
+        "specular_roughness",
+        "geometry_normal",
+        "emission_color",
+    ),
+    "standard_surface": (
+        "base_color",
+        "metalness",
+        "specular_roughness",
+        "normal",
+        "emission_color",
+    ),
+    "gltf_pbr": ("base_color", "metallic", "roughness", "normal", "emissive"),
+}
+#: the parameters those inputs read, and where each preset stores them
+PARAMETERS = ("base_color", "metallic", "roughness", "normal", "emissive")
+
+
+def _feeding(doc: mx.Document, shader: mx.Node, name: str) -> mx.Node:
+    port = shader.getInput(name)
+    graph = doc.getNodeGraph(port.getNodeGraphString())
+    return graph.getOutput(port.getOutputString()).getConnectedNode()
+
+
+def _image_of(node: mx.Node) -> tuple[mx.Node, list[str]]:
+    """The image node upstream of ``node`` through single-input nodes, and their categories."""
+    path = []
+    while node.getCategory() != "image":
+        path.append(node.getCategory())
+        node = next(i for i in node.getInputs() if i.getConnectedNode() is not None)
+        node = node.getConnectedNode()
+    return node, path
+
+
+def glsl_pixel_shader(doc: mx.Document) -> mx_gen_shader.Shader:
+    """MaterialX's GLSL generator on the document's material (raises if it cannot)."""
+    generator = mx_gen_glsl.GlslShaderGenerator.create()
+    context = mx_gen_shader.GenContext(generator)
+    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    (renderable,) = mx_gen_shader.findRenderableElements(doc)
+    return generator.generate(renderable.getName(), renderable, context)
+
+
+@pytest.mark.parametrize(
+    ("preset_name", "model"),
+    [(p, "open_pbr_surface") for p in builtin_preset_names()]
+    + [(p, m) for p in ("unreal", "unity_urp") for m in ("standard_surface", "gltf_pbr")],
+)
+def test_materialx_document_validates_compiles_and_reads_the_exported_files(
+    preset_name: str, model: str, small: Material, tmp_path: Path
 ) -> None:
-    summary = export_material(small, preset_name, tmp_path, mtlx=True)
+    emissive = Material(
+        small.name,
+        Schema.from_names([*small.schema.names, "emissive"]),
+        {**small.maps, "emissive": small.maps["base_color"] * 0.5},
+        small.sources,
+    )
+    summary = export_material(emissive, preset_name, tmp_path, mtlx=True, mtlx_shader=model)
     doc = mx.createDocument()
     mx.readFromXmlFile(doc, str(summary.file(".mtlx")))
     valid, message = validate(doc)
@@ -161,14 +220,38 @@ def test_materialx_document_validates_and_references_the_exported_files(
     }
     written = {f.path.name for f in summary.files if f.kind == "texture"}
     assert files and files <= written
-    (shader,) = [n for n in doc.getNodes() if n.getCategory() == "gltf_pbr"]
-    inputs = {i.getName() for i in shader.getInputs()}
-    assert {"base_color", "metallic", "roughness", "normal", "occlusion"} <= inputs
-    port = shader.getInput("roughness")
-    graph = doc.getNodeGraph(port.getNodeGraphString())
-    roughness = graph.getOutput(port.getOutputString()).getConnectedNode()
-    # Unity stores smoothness: the document must invert it back
-    assert (roughness.getCategory() == "invert") == preset_name.startswith("unity")
+    (shader,) = [n for n in doc.getNodes() if n.getCategory() == model]
+    preset = load_preset(preset_name)
+    for name, param in zip(MODEL_INPUTS[model], PARAMETERS, strict=True):
+        image, path = _image_of(_feeding(doc, shader, name))
+        # the file and channel the preset put the parameter in (the preset's own table)
+        holder = next(o for o in preset.outputs if param in o.sources)
+        assert image.getInput("file").getValueString() == holder.file_for("tiles", preset_name)
+        srgb = image.getInput("file").getColorSpace() == "srgb_texture"
+        assert srgb == (param in ("base_color", "emissive") and holder.color_space == "srgb")
+        if param == "roughness":  # Unity stores smoothness: the document inverts it back
+            assert ("invert" in path) == preset_name.startswith("unity")
+        if param == "normal":  # DirectX green is flipped before normalmap
+            assert path[0] == "normalmap"
+            assert ("multiply" in path) == (preset.normal_convention == "directx")
+    weights = {"open_pbr_surface": "emission_luminance", "standard_surface": "emission"}
+    if model in weights:  # both default to 0: no emission unless set
+        assert shader.getInput(weights[model]).getValue() == 1.0
+    base = {"open_pbr_surface": "base_weight", "standard_surface": "base"}
+    if model in base:
+        assert shader.getInput(base[model]).getValue() == 1.0
+    assert (shader.getInput("occlusion") is not None) == (model == "gltf_pbr")
+
+    generated = glsl_pixel_shader(doc)
+    pixel = generated.getStage(mx_gen_shader.PIXEL_STAGE)
+    assert "void main" in pixel.getSourceCode()
+    textures = {
+        port.getValue().getValueString()
+        for block in pixel.getUniformBlocks().values()
+        for port in (block[i] for i in range(block.size()))
+        if port.getType().getName() == "filename" and port.getValue() is not None
+    }
+    assert textures == files  # every texture the document reads is a sampler of the shader
 
 
 def test_cli_export_writes_and_summarises(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:

@@ -94,7 +94,7 @@ def test_every_preset_validates_and_reads_back_the_source(
     surface = material.ComputeSurfaceSource()[0]
     assert surface.GetIdAttr().Get() == "UsdPreviewSurface"
     mtlx_surface = material.ComputeSurfaceSource("mtlx")[0]
-    assert mtlx_surface.GetIdAttr().Get() == "ND_gltf_pbr_surfaceshader"
+    assert mtlx_surface.GetIdAttr().Get() == "ND_open_pbr_surface_surfaceshader"
 
     for name, param in SURFACE.items():
         texture, channel = texture_reading(surface, name)
@@ -117,6 +117,18 @@ def test_every_preset_validates_and_reads_back_the_source(
         else:
             # dithered 8-bit, or finer: within one code
             assert np.abs(value - source[..., : len(picks)]).max() < 1.01 / 255, name
+
+
+@pytest.mark.parametrize("model", ["standard_surface", "gltf_pbr"])
+def test_other_materialx_models_validate_as_the_mtlx_context(
+    model: str, small: Material, tmp_path: Path
+) -> None:
+    summary = export_material(small, "unity_hdrp", tmp_path, usd=True, mtlx_shader=model)
+    errors, warnings = errors_and_warnings(summary.file(".usda"))
+    assert errors == [] and warnings == set()
+    stage = Usd.Stage.Open(str(summary.file(".usda")))
+    material = UsdShade.Material(stage.GetPrimAtPath("/tiles/Looks/tiles"))
+    assert material.ComputeSurfaceSource("mtlx")[0].GetIdAttr().Get() == f"ND_{model}_surfaceshader"
 
 
 def test_usdz_holds_the_usda_first_and_the_very_texture_files(
@@ -242,10 +254,12 @@ def test_usdz_refuses_images_it_cannot_hold(small: Material, tmp_path: Path) -> 
 def test_cli_writes_usd(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     out = tmp_path / "out"
     args = ["export", str(SAMPLE), str(out), "--preset", "unreal", "--size", "64", "--usdz"]
-    assert main(args) == 0
+    assert main([*args, "--mtlx", "--mtlx-shader", "standard_surface"]) == 0
     printed = capsys.readouterr().out
-    for name in ("tiles.usda", "tiles.usdz", "tiles_ORM.png"):
+    for name in ("tiles.usda", "tiles.usdz", "tiles_ORM.png", "tiles.mtlx"):
         assert name in printed and (out / name).is_file()
+    assert "MaterialX standard_surface" in printed
+    assert "<standard_surface" in (out / "tiles.mtlx").read_text()
     assert (
         main(
             [

@@ -120,6 +120,7 @@ def export_material(
     mtlx: bool = False,
     usd: bool = False,
     usdz: bool = False,
+    mtlx_shader: str = "open_pbr_surface",
     seed: int = 0,
 ) -> ExportSummary:
     """Write ``material`` as ``preset`` says into ``out_dir``.
@@ -137,7 +138,9 @@ def export_material(
     glb : also write ``<name>.glb`` (glTF binary: the material, glTF-packed
         PNG textures embedded, on ``mesh`` or the unit sphere).
     mesh : a Wavefront OBJ for the ``.glb`` and ``.usda`` (default: a UV sphere).
-    mtlx : also write ``<name>.mtlx`` (MaterialX gltf_pbr referencing the textures).
+    mtlx : also write ``<name>.mtlx`` (a MaterialX material reading the textures).
+    mtlx_shader : its surface shader: ``open_pbr_surface``, ``standard_surface`` or
+        ``gltf_pbr`` (:data:`.mtlx.SHADING_MODELS`); also the USD's ``mtlx`` context.
     usd : also write ``<name>.usda``: the mesh, bound to a Material with a
         UsdPreviewSurface reading the textures and the MaterialX document as
         its ``mtlx`` render context (:mod:`.usd`).
@@ -178,7 +181,7 @@ def export_material(
     if mtlx or usd:
         from .mtlx import checked_document
 
-        mtlx_doc = checked_document(preset, outputs, texture_files, name)
+        mtlx_doc = checked_document(preset, outputs, texture_files, name, mtlx_shader)
 
     if size is not None:
         material = resize_material(material, target_size(material.size, size))
@@ -202,11 +205,11 @@ def export_material(
         from .mtlx import mtlx_writer
 
         pending.append(PendingFile(f"{name}.mtlx", mtlx_writer(mtlx_doc)))
-        written.append(WrittenFile(out / f"{name}.mtlx", "mtlx", "MaterialX gltf_pbr document"))
+        written.append(WrittenFile(out / f"{name}.mtlx", "mtlx", f"MaterialX {mtlx_shader}"))
     if usd:
         pending += _usd_files(name, geometry, preset, outputs, texture_files, mtlx_doc, usdz)
         written.append(
-            WrittenFile(out / f"{name}.usda", "usd", "USD: mesh, UsdPreviewSurface and MaterialX")
+            WrittenFile(out / f"{name}.usda", "usd", f"USD: mesh, UsdPreviewSurface, {mtlx_shader}")
         )
         if usdz:
             written.append(WrittenFile(out / f"{name}.usdz", "usd", "USDZ package"))

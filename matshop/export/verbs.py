@@ -60,7 +60,14 @@ def add_parsers(verbs: argparse._SubParsersAction) -> None:
         "--mesh", type=Path, help="Wavefront OBJ for --glb and --usd (default: a UV sphere)"
     )
     parser.add_argument(
-        "--mtlx", action="store_true", help="also write <name>.mtlx (MaterialX gltf_pbr)"
+        "--mtlx", action="store_true", help="also write <name>.mtlx (a MaterialX material)"
+    )
+    parser.add_argument(
+        "--mtlx-shader",
+        choices=("open_pbr_surface", "standard_surface", "gltf_pbr"),
+        default="open_pbr_surface",
+        help="the MaterialX surface shader of --mtlx and of the USD's mtlx context "
+        "(default: open_pbr_surface, OpenPBR Surface)",
     )
     parser.add_argument(
         "--usd",
@@ -118,6 +125,7 @@ def run(args: argparse.Namespace) -> int:
         mtlx=args.mtlx,
         usd=args.usd,
         usdz=args.usdz,
+        mtlx_shader=args.mtlx_shader,
     )
     read_as = convention_line(material.sources)
     for line in ([read_as] if read_as else []) + summary.lines():
