@@ -83,7 +83,7 @@ def test_glb_on_a_sphere_validates_and_reads_back(
     summary = export_material(small, "gltf", tmp_path, glb=True, mesh=mesh)
     glb = summary.file(".glb")
     report = validate_gltf(glb)
-    assert report["numErrors"] == 0, report["messages"]
+    assert report["numErrors"] == 0 and report["numWarnings"] == 0, report["messages"]
 
     doc = pygltflib.GLTF2.load(str(glb))
     (material,) = doc.materials
@@ -92,7 +92,7 @@ def test_glb_on_a_sphere_validates_and_reads_back(
     assert material.occlusionTexture.index == orm  # one ORM file serves both slots
     assert material.normalTexture is not None
     primitive = doc.meshes[0].primitives[0]
-    assert primitive.attributes.TANGENT is None  # no tangent frame: MikkTSpace in viewers
+    assert primitive.attributes.TANGENT is not None  # a normal map: the mesh's tangents
     assert doc.accessors[primitive.indices].count % 3 == 0
     # the embedded textures are the very pixels of the exported files
     for texture_index, suffix in (
@@ -105,6 +105,28 @@ def test_glb_on_a_sphere_validates_and_reads_back(
         embedded = _embedded_image(doc, source, tmp_path / f"embedded{suffix}")
         written, _ = read_image(summary.file(suffix))
         assert np.array_equal(embedded, written), suffix
+
+
+def test_glb_holds_only_images_its_material_reads(small: Material, tmp_path: Path) -> None:
+    """No normal map: no flat normal image, no tangents; the validator reports nothing."""
+    names = [n for n in small.schema.names if n != "normal"]
+    plain = Material(
+        "plain", Schema.from_names(names), {n: small.maps[n] for n in names}, small.sources
+    )
+    glb = export_material(plain, "gltf", tmp_path, glb=True).file(".glb")
+    doc = pygltflib.GLTF2.load(str(glb))
+    (material,) = doc.materials
+    assert material.normalTexture is None
+    assert doc.meshes[0].primitives[0].attributes.TANGENT is None
+    used = {
+        material.pbrMetallicRoughness.baseColorTexture.index,
+        material.pbrMetallicRoughness.metallicRoughnessTexture.index,
+        material.occlusionTexture.index,
+    }
+    assert {doc.textures[i].source for i in used} == set(range(len(doc.images)))
+    report = validate_gltf(glb)
+    assert report["numErrors"] == 0 and report["numWarnings"] == 0, report["messages"]
+    assert not any(m["code"] == "UNUSED_OBJECT" for m in report["messages"]), report["messages"]
 
 
 def test_anisotropic_material_gets_tangents_and_khr_anisotropy(tmp_path: Path) -> None:

@@ -6,9 +6,11 @@ the metallicRoughness slot), packed and quantised exactly as the texture
 export does, so a ``.glb`` written beside a ``gltf`` export holds the same
 pixels. Whatever preset the files use, the ``.glb`` follows glTF's rules.
 
-``TANGENT`` is written when the material carries a tangent frame (without
-one, glTF viewers compute MikkTSpace tangents, which is what normal maps are
-baked against). An anisotropic material (Ashikhmin–Shirley exponents) gets
+``TANGENT`` (MikkTSpace's, :mod:`matshop.render.tangent_space`, what normal
+maps are baked against) is written whenever the material has a normal map or
+anisotropy: runtime-generated tangents are not portable across viewers (the
+validator warns). Only images the material reads are embedded: without a
+normal map there is no flat normal image. An anisotropic material (Ashikhmin–Shirley exponents) gets
 ``KHR_materials_anisotropy``: strength and direction from the two
 exponents, via the Beckmann/Phong correspondence ``alpha = sqrt(2 / (n + 2))``
 and glTF's ``alpha_t = mix(alpha_b, 1, strength^2)``.
@@ -27,7 +29,7 @@ from ..io.images import write_image
 from ..material import Material
 from .obj import Mesh, tangents
 from .pack import has_parameter, pack_output
-from .presets import load_preset
+from .presets import OutputSpec, load_preset
 from .quantize import quantize
 
 _ANISOTROPY = "KHR_materials_anisotropy"
@@ -106,7 +108,7 @@ def build_glb(
         NORMAL=blob.accessor(mesh.normals, gl.VEC3, gl.ARRAY_BUFFER),
         TEXCOORD_0=blob.accessor(mesh.uvs, gl.VEC2, gl.ARRAY_BUFFER),
     )
-    if has_parameter(material, "tangent") or "anisotropy" in images:
+    if "normal" in images or "anisotropy" in images:  # mapped frames need the mesh's tangents
         attributes.TANGENT = blob.accessor(tangents(mesh), gl.VEC4, gl.ARRAY_BUFFER)
     indices = blob.accessor(mesh.indices, gl.SCALAR, gl.ELEMENT_ARRAY_BUFFER)
     doc.samplers.append(
@@ -165,6 +167,14 @@ def _png_bytes(array: np.ndarray, scratch: Path, *, seed: int, dither: bool = Tr
         scratch.unlink()
 
 
+def _referenced(material: Material, output: OutputSpec) -> bool:
+    """Whether :func:`build_glb` references ``output``'s image: an optional map or
+    the normal map only when the material has their parameter (no unused images)."""
+    if output.optional or output.source == "normal":
+        return any(has_parameter(material, s) for s in output.sources)
+    return True
+
+
 def glb_writer(
     material: Material, name: str, geometry: Mesh, *, seed: int = 0
 ) -> Callable[[Path], None]:
@@ -174,7 +184,7 @@ def glb_writer(
         preset = load_preset("gltf")
         images: dict[str, bytes] = {}
         for output in preset.outputs:
-            if output.optional and not has_parameter(material, output.source or ""):
+            if not _referenced(material, output):
                 continue
             scratch = path.with_name(f".{path.stem}-{output.channel}.png")
             channel_seed = zlib.crc32(f"{seed}:{output.channel}".encode())

@@ -2,9 +2,9 @@
 
 Vertices are split per distinct (position, uv, normal) triple, polygons are
 fanned into triangles, and ``v`` is flipped because glTF's texture origin is
-the upper-left corner while OBJ's is the lower-left. Tangents follow the
-texture's ``u`` direction (Lengyel's per-triangle method, orthogonalised per
-vertex) with the handedness in ``w``, as glTF's ``TANGENT`` wants.
+the upper-left corner while OBJ's is the lower-left. Tangents are MikkTSpace's
+(:mod:`matshop.render.tangent_space`) with the handedness in ``w``, as glTF's
+``TANGENT`` wants.
 """
 
 from __future__ import annotations
@@ -95,33 +95,9 @@ def _smooth_normals(positions: np.ndarray, indices: np.ndarray) -> np.ndarray:
 
 
 def tangents(mesh: Mesh) -> np.ndarray:
-    """Per-vertex ``(N, 4)`` tangents along ``+u`` with handedness ``w = +-1``.
+    """Per-vertex ``(N, 4)`` MikkTSpace tangents along ``+u`` with handedness ``w = +-1``
+    (:func:`matshop.render.tangent_space.mikktspace_tangents`, with ``v`` back up)."""
+    from ..render.tangent_space import mikktspace_tangents
 
-    Vertices whose triangles give no usable ``u`` direction get any unit
-    vector perpendicular to their normal (the validator wants unit tangents).
-    """
-    tri = mesh.indices.reshape(-1, 3)
-    p = mesh.positions[tri].astype(np.float64)
-    uv = mesh.uvs[tri].astype(np.float64)
-    # glTF v points down the image: derivatives use v_up = -v
-    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    du1, du2 = uv[:, 1, 0] - uv[:, 0, 0], uv[:, 2, 0] - uv[:, 0, 0]
-    dv1, dv2 = -(uv[:, 1, 1] - uv[:, 0, 1]), -(uv[:, 2, 1] - uv[:, 0, 1])
-    det = du1 * dv2 - du2 * dv1
-    scale = np.where(np.abs(det) > 1e-20, 1.0 / np.where(det == 0, 1.0, det), 0.0)[:, None]
-    t_face = (e1 * dv2[:, None] - e2 * dv1[:, None]) * scale
-    b_face = (e2 * du1[:, None] - e1 * du2[:, None]) * scale
-    t_acc = np.zeros((len(mesh.positions), 3))
-    b_acc = np.zeros((len(mesh.positions), 3))
-    for k in range(3):
-        np.add.at(t_acc, tri[:, k], t_face)
-        np.add.at(b_acc, tri[:, k], b_face)
-    n = mesh.normals.astype(np.float64)
-    t = t_acc - n * np.sum(n * t_acc, axis=1, keepdims=True)
-    length = np.linalg.norm(t, axis=1, keepdims=True)
-    fallback = np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]]))
-    fallback = np.cross(fallback, n)
-    fallback /= np.linalg.norm(fallback, axis=1, keepdims=True)
-    t = np.where(length > 1e-12, t / np.maximum(length, 1e-300), fallback)
-    w = np.where(np.sum(np.cross(n, t) * b_acc, axis=1) < 0.0, -1.0, 1.0)
-    return np.concatenate([t, w[:, None]], axis=1).astype(np.float32)
+    v_up = np.stack([mesh.uvs[:, 0], 1.0 - mesh.uvs[:, 1]], axis=1)
+    return mikktspace_tangents(mesh.positions, mesh.normals, v_up, mesh.indices.reshape(-1, 3))

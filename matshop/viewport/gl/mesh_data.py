@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MatshopError
+from ...render.tangent_space import mikktspace_tangents
 
 
 @dataclass
@@ -59,31 +60,8 @@ def smooth_normals(positions: np.ndarray, indices: np.ndarray) -> np.ndarray:
 def compute_tangents(
     positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray
 ) -> np.ndarray:
-    """Per-vertex tangents ``(V, 4)``: unit ``dP/du`` orthogonal to the normal, and handedness."""
-    p = positions[indices].astype(np.float64)
-    t = uvs[indices].astype(np.float64)
-    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    d1, d2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
-    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
-    safe = np.where(np.abs(det) > 1e-20, det, 1.0)[:, None]
-    # unit derivatives weighted by the triangle's area: slivers count for little
-    area = np.linalg.norm(np.cross(e1, e2), axis=1, keepdims=True)
-    live = np.abs(det)[:, None] > 1e-20
-    dpdu = np.where(live, _unit((e1 * d2[:, 1:2] - e2 * d1[:, 1:2]) / safe) * area, 0.0)
-    dpdv = np.where(live, _unit((e2 * d1[:, 0:1] - e1 * d2[:, 0:1]) / safe) * area, 0.0)
-    su = np.zeros_like(positions, dtype=np.float64)
-    sv = np.zeros_like(positions, dtype=np.float64)
-    for k in range(3):
-        np.add.at(su, indices[:, k], dpdu)
-        np.add.at(sv, indices[:, k], dpdv)
-    n = normals.astype(np.float64)
-    tangent = su - n * np.sum(su * n, axis=1, keepdims=True)
-    length = np.linalg.norm(tangent, axis=1, keepdims=True)
-    # degenerate UVs (a pole, a collapsed island): any vector orthogonal to n
-    fallback = np.cross(n, np.where(np.abs(n[:, 1:2]) < 0.9, [[0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0]]))
-    tangent = np.where(length > 1e-12, tangent / np.maximum(length, 1e-20), _unit(fallback))
-    w = np.where(np.sum(np.cross(n, tangent) * sv, axis=1) < 0.0, -1.0, 1.0)
-    return np.concatenate([tangent, w[:, None]], axis=1).astype(np.float32)
+    """Per-vertex tangents ``(V, 4)``: MikkTSpace's, as the exporters write them."""
+    return mikktspace_tangents(positions, normals, uvs, indices)
 
 
 def build(
