@@ -118,6 +118,16 @@ def test_every_preset_validates_and_reads_back_the_source(
             # dithered 8-bit, or finer: within one code
             assert np.abs(value - source[..., : len(picks)]).max() < 1.01 / 255, name
 
+    # the round trip: both files re-import through load_material with the source's values
+    for path in (usda, usdz):
+        back, report = load_material(path)
+        assert back.size == small.size and set(SURFACE.values()) <= set(back.schema.names)
+        for param in SURFACE.values():
+            error = np.abs(back.maps[param].astype(np.float64) - small.maps[param]).max()
+            assert error < (2.5 if param == "normal" else 1.01) / 255, (path.name, param)
+        convention = back.sources["normal"]["convention"]
+        assert convention == preset.normal_convention
+
 
 @pytest.mark.parametrize("model", ["standard_surface", "gltf_pbr"])
 def test_other_materialx_models_validate_as_the_mtlx_context(
@@ -260,6 +270,14 @@ def test_cli_writes_usd(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
         assert name in printed and (out / name).is_file()
     assert "MaterialX standard_surface" in printed
     assert "<standard_surface" in (out / "tiles.mtlx").read_text()
+    assert main(["info", str(out / "tiles.usdz")]) == 0
+    info = capsys.readouterr().out
+    assert "tiles.usdz[tiles_ORM.png]" in info and "directx normals" in info
+    empty = tmp_path / "empty.usda"
+    empty.write_text('#usda 1.0\ndef Xform "x"\n{\n}\n')
+    assert main(["info", str(empty)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "no Material" in err and "empty.usda" in err and "\n" not in err
     assert (
         main(
             [

@@ -30,6 +30,7 @@ from .normal_convention import (
 )
 from .safe_names import safe_stem
 from .textureset import PACKED_CHANNELS, TextureSet, check_texture_set, resolve_texture_set
+from .usd_material import is_usd, read_usd_material
 
 #: slots whose first channel is a scalar parameter
 _SCALAR_SLOTS: dict[str, str] = {
@@ -144,6 +145,8 @@ def load_material(
     """
     if isinstance(path, TextureSet):
         ts = path
+    elif is_usd(path):
+        return _load_usd(Path(path), spaces)
     else:
         ts = resolve_texture_set(path, material=material, maps=maps)
     check_texture_set(ts)
@@ -212,6 +215,14 @@ def load_material(
                 sources[param.name]["file"],
             )
     return Material(ts.name, schema, maps, sources), report
+
+
+def _load_usd(path: Path, spaces: dict[str, str] | None) -> tuple[Material, LoadReport]:
+    """A USD file's UsdPreviewSurface material (:mod:`.usd_material`)."""
+    material = read_usd_material(path, spaces=spaces)
+    files = {name: Path(source["file"]) for name, source in material.sources.items()}
+    ts = TextureSet(material.name, path.parent, files)
+    return material, LoadReport(ts, notes=[f"read from {path.name}'s UsdPreviewSurface"])
 
 
 def _load_frame(
