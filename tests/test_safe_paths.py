@@ -117,11 +117,12 @@ def test_export_from_a_project_and_with_name(name: str, root: Path) -> None:
             continue  # argv cannot carry NUL
         out = root / "work" / f"out{n}"
         before = _tree(root)
-        argv = ["export", str(project), str(out), "--preset", "gltf", "--mtlx", *extra]
+        argv = ["export", str(project), str(out), "--preset", "gltf", "--mtlx", "--usdz", *extra]
         code = main(argv)
         written = _assert_only_inside(root, before, out)
         assert code == (2 if "\ud800" in name else 0)
-        assert code == 2 or any(p.suffix == ".mtlx" for p in written)
+        suffixes = {p.suffix for p in written}
+        assert code == 2 or {".mtlx", ".usda", ".usdz"} <= suffixes
 
 
 PRESET_FILE_NAMES = [

@@ -136,7 +136,9 @@ def build_document(
             if packed.getType() == "float":
                 node = packed
             else:
-                node = graph.addNode("extract", f"{output.channel}_{'RGBA'[channel]}", "float")
+                node = graph.addNode(
+                    "extract", mx.createValidName(f"{output.channel}_{'RGBA'[channel]}"), "float"
+                )
                 node.addInput("in", packed.getType()).setConnectedNode(packed)
                 node.addInput("index", "integer").setValue(channel)
         if inverted:
