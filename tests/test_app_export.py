@@ -108,9 +108,9 @@ def test_the_dialog_lists_the_lines_and_names_the_replacement(qtbot, tmp_path) -
     SHOTS.mkdir(parents=True, exist_ok=True)
     assert dialog.grab().save(str(SHOTS / "27_export_files.png"))
 
-    # the real prompt: OK -> True, Cancel -> False
+    # the real prompt: OK -> the extras chosen (none offered here), Cancel -> None
     prompts = Prompts(None)  # type: ignore[arg-type]
-    for button, expected in (("accept", True), ("reject", False)):
+    for button, expected in (("accept", {}), ("reject", None)):
 
         def answer(button: str = button) -> None:
             modal = QApplication.activeModalWidget()
@@ -120,11 +120,37 @@ def test_the_dialog_lists_the_lines_and_names_the_replacement(qtbot, tmp_path) -
                 QTimer.singleShot(20, answer)
 
         QTimer.singleShot(0, answer)
-        assert prompts.confirm_export(lines) is expected
+        assert prompts.confirm_export(lines) == expected
+
+
+def test_the_usd_checkbox_adds_its_files_to_the_list_and_the_export(
+    window, qtbot, tmp_path
+) -> None:
+    lines = ["a.png: base_color [png uint8]"]
+    usd_lines = ["a.usda: mesh [usd usda]", "a.usdz: package [usd usdz]"]
+    dialog = ExportDialog(lines, extras={"usd": ("Also write USD", usd_lines)})
+    qtbot.addWidget(dialog)
+
+    def shown() -> list[str]:
+        return [dialog.list.item(i).text() for i in range(dialog.list.count())]
+
+    assert shown() == lines and dialog.chosen() == {"usd": False}
+    assert "These 1 files" in dialog.summary.text()
+    dialog.extras["usd"].setChecked(True)
+    assert shown() == lines + usd_lines and dialog.chosen() == {"usd": True}
+    assert "These 3 files" in dialog.summary.text()
+    dialog.extras["usd"].setChecked(False)
+    assert shown() == lines
+
+    window.prompts.export_extras = {"usd"}
+    folder = tmp_path / "usd"
+    listed = _export(window, "unreal", folder)
+    assert {"tiles.usda", "tiles.usdz"} <= set(listed)
+    assert sorted(listed) == sorted(p.name for p in folder.iterdir())
 
 
 def test_scripted_prompts_record_the_export_question() -> None:
     prompts = ScriptedPrompts()
     prompts.export_answer = False
-    assert prompts.confirm_export(["a.png: x [png uint8]"]) is False
+    assert prompts.confirm_export(["a.png: x [png uint8]"]) is None
     assert prompts.asked[-1] == ("export", "a.png: x [png uint8]")

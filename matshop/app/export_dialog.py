@@ -5,7 +5,9 @@ does, which outputs of a preset apply to the material (an optional output is
 skipped when the material lacks its parameters), the file name of each (from
 the preset's template and the material's name), what it holds, its format and
 bit depth, and whether a file of that name already exists in the folder (it
-would be replaced). :class:`ExportDialog` shows those lines with OK/Cancel.
+would be replaced). :class:`ExportDialog` shows those lines with OK/Cancel,
+and a checkbox per optional extra (USD: :func:`plan_usd`) whose lines join the
+list while it is checked.
 """
 
 from __future__ import annotations
@@ -13,7 +15,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
+    QCheckBox,
     QDialog,
     QDialogButtonBox,
     QLabel,
@@ -74,36 +78,84 @@ def plan_export(material: Material, preset: Preset | str, folder: str | Path) ->
     return plan
 
 
+def plan_usd(material: Material, folder: str | Path) -> list[PlannedFile]:
+    """The ``.usda`` and ``.usdz`` that ``export_material(..., usdz=True)`` adds."""
+    name = export_name(material)
+    contents = {
+        "usda": "mesh, UsdPreviewSurface and MaterialX open_pbr_surface",
+        "usdz": "the .usda and its textures, packaged",
+    }
+    return [
+        PlannedFile(f"{name}.{ext}", what, ext, (Path(folder) / f"{name}.{ext}").exists())
+        for ext, what in contents.items()
+    ]
+
+
 class ExportDialog(QDialog):
     """The files to write, one line each; OK exports, Cancel writes nothing."""
 
-    def __init__(self, lines: list[str], parent: QWidget | None = None) -> None:
+    def __init__(
+        self,
+        lines: list[str],
+        parent: QWidget | None = None,
+        *,
+        extras: dict[str, tuple[str, list[str]]] | None = None,
+    ) -> None:
+        """``extras``: option name -> (checkbox label, the lines it adds)."""
         super().__init__(parent)
         self.setWindowTitle("Export")
         layout = QVBoxLayout(self)
+        self.summary = QLabel()
+        self.summary.setWordWrap(True)
+        layout.addWidget(self.summary)
+        self.list = QListWidget()
+        for line in lines:
+            self._add(line)
+        layout.addWidget(self.list, 1)
+        self.extras: dict[str, QCheckBox] = {}
+        for option, (label, extra_lines) in (extras or {}).items():
+            box = QCheckBox(label)
+            box.toggled.connect(lambda on, more=extra_lines: self._show_extra(more, on))
+            layout.addWidget(box)
+            self.extras[option] = box
+        buttons = QDialogButtonBox(
+            QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel
+        )
+        self.ok = buttons.button(QDialogButtonBox.StandardButton.Ok)
+        buttons.accepted.connect(self.accept)
+        buttons.rejected.connect(self.reject)
+        layout.addWidget(buttons)
+        self.resize(640, 320)
+        self._refresh()
+
+    def _add(self, line: str) -> None:
+        item = QListWidgetItem(line)
+        if line.endswith(REPLACES):
+            font = item.font()
+            font.setBold(True)
+            item.setFont(font)
+        self.list.addItem(item)
+
+    def _refresh(self) -> None:
+        """The count and the replacement warning, for the lines listed now."""
+        lines = [self.list.item(i).text() for i in range(self.list.count())]
         replaced = sum(line.endswith(REPLACES) for line in lines)
         text = f"These {len(lines)} files will be written:"
         if replaced:
             verb = "exists" if replaced == 1 else "exist"
             text += f" <b>{replaced} already {verb} and will be replaced.</b>"
-        summary = QLabel(text)
-        summary.setWordWrap(True)
-        layout.addWidget(summary)
-        self.list = QListWidget()
+        self.summary.setText(text)
+        self.ok.setText("Replace and export" if replaced else "Export")
+
+    def _show_extra(self, lines: list[str], shown: bool) -> None:
         for line in lines:
-            item = QListWidgetItem(line)
-            if line.endswith(REPLACES):
-                font = item.font()
-                font.setBold(True)
-                item.setFont(font)
-            self.list.addItem(item)
-        layout.addWidget(self.list, 1)
-        buttons = QDialogButtonBox(
-            QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel
-        )
-        ok = buttons.button(QDialogButtonBox.StandardButton.Ok)
-        ok.setText("Replace and export" if replaced else "Export")
-        buttons.accepted.connect(self.accept)
-        buttons.rejected.connect(self.reject)
-        layout.addWidget(buttons)
-        self.resize(640, 320)
+            if shown:
+                self._add(line)
+            else:
+                for item in self.list.findItems(line, Qt.MatchFlag.MatchExactly):
+                    self.list.takeItem(self.list.row(item))
+        self._refresh()
+
+    def chosen(self) -> dict[str, bool]:
+        """Each extra option: checked or not."""
+        return {option: box.isChecked() for option, box in self.extras.items()}

@@ -243,7 +243,7 @@ class FileController(QObject):
         exist marked); existing files are replaced only when the user confirmed.
         """
         from ..export import builtin_preset_names, export_material, load_preset
-        from .export_dialog import export_name, plan_export
+        from .export_dialog import export_name, plan_export, plan_usd
 
         if self.session.doc is None:
             return
@@ -258,9 +258,16 @@ class FileController(QObject):
         except MatshopError as exc:
             self.prompts.error("Cannot export", str(exc))
             return
-        if not self.prompts.confirm_export([planned.line() for planned in plan]):
+        usd_plan = plan_usd(material, folder)
+        usd_label = "Also write USD (.usda, .usdz): the sphere with UsdPreviewSurface and MaterialX"
+        extras = {"usd": (usd_label, [planned.line() for planned in usd_plan])}
+        chosen_extras = self.prompts.confirm_export([planned.line() for planned in plan], extras)
+        if chosen_extras is None:
             self.message.emit("Export cancelled")
             return
+        usd = chosen_extras.get("usd", False)
+        if usd:
+            plan = plan + usd_plan
         try:
             summary = export_material(
                 material,
@@ -268,6 +275,7 @@ class FileController(QObject):
                 folder,
                 name=export_name(material),
                 force=any(planned.exists for planned in plan),  # the user saw them listed
+                usdz=usd,
             )
         except MatshopError as exc:
             self.prompts.error("Cannot export", str(exc))

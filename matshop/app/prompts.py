@@ -120,12 +120,16 @@ class Prompts:
         path = QFileDialog.getExistingDirectory(self.parent, "Export into folder", start)
         return Path(path) if path else None
 
-    def confirm_export(self, lines: list[str]) -> bool:
-        """List the files an export will write (existing ones marked); True writes them."""
+    def confirm_export(
+        self, lines: list[str], extras: dict[str, tuple[str, list[str]]] | None = None
+    ) -> dict[str, bool] | None:
+        """List the files an export will write (existing ones marked), with a checkbox
+        per extra (name -> (label, its lines)); None: cancelled, else the extras chosen."""
         from .export_dialog import ExportDialog  # only built when asked
 
-        dialog = ExportDialog(lines, self.parent)
+        dialog = ExportDialog(lines, self.parent, extras=extras)
         try:
-            return dialog.exec() == QDialog.DialogCode.Accepted
+            accepted = dialog.exec() == QDialog.DialogCode.Accepted
+            return dialog.chosen() if accepted else None
         finally:
             dialog.deleteLater()

@@ -41,6 +41,8 @@ class ScriptedPrompts(Prompts):
         self.material_answer: Callable[[list[str]], str | None] = lambda names: names[0]
         #: the answer to the list of files an export will write
         self.export_answer = True
+        #: extras of the export dialog to check (e.g. {"usd"})
+        self.export_extras: set[str] = set()
         #: the lines of the last export confirmation
         self.export_lines: list[str] = []
 
@@ -90,10 +92,15 @@ class ScriptedPrompts(Prompts):
         self.asked.append(("export_folder", start))
         return self.folder
 
-    def confirm_export(self, lines: list[str]) -> bool:
-        self.asked.append(("export", "\n".join(lines)))
-        self.export_lines = list(lines)
-        return self.export_answer
+    def confirm_export(
+        self, lines: list[str], extras: dict[str, tuple[str, list[str]]] | None = None
+    ) -> dict[str, bool] | None:
+        extras = extras or {}
+        chosen = {name: name in self.export_extras for name in extras}
+        shown = [line for name, (_, more) in extras.items() if chosen[name] for line in more]
+        self.asked.append(("export", "\n".join([*lines, *shown])))
+        self.export_lines = [*lines, *shown]
+        return chosen if self.export_answer else None
 
     def kinds(self) -> list[str]:
         return [kind for kind, _ in self.asked]
