@@ -31,6 +31,7 @@ graphs use (``standard_surface_to_gltf_pbr``, ``open_pbr_to_standard_surface``):
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -181,11 +182,17 @@ def _normal(graph: mx.NodeGraph, texels: mx.Node, convention: str) -> mx.Node:
     return node
 
 
-def validate(doc: mx.Document) -> tuple[bool, str]:
-    """``doc.validate()`` against the standard data libraries."""
+@functools.cache
+def standard_library() -> mx.Document:
+    """MaterialX's standard data libraries (loaded once; only read afterwards)."""
     library = mx.createDocument()
     mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    doc.setDataLibrary(library)
+    return library
+
+
+def validate(doc: mx.Document) -> tuple[bool, str]:
+    """``doc.validate()`` against the standard data libraries."""
+    doc.setDataLibrary(standard_library())
     return doc.validate()
 
 

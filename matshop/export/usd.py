@@ -12,10 +12,10 @@ The mesh carries vertex ``normals``, ``primvars:st`` (USD's texture origin is
 the lower-left corner, as OBJ's; the glTF mesh's ``v`` is flipped back) and
 ``primvars:tangents`` (float3, along ``+u``) with ``primvars:tangentSigns``
 (+-1, the bitangent's handedness: ``B = sign * cross(N, T)``), the glTF
-``TANGENT`` split into USD's float3 primvar and its sign; USD has no standard
-tangent primvar, and these names are what DCC importers that read tangents
-look for (Houdini's ``tangentu`` aside). Textures are referenced relative to
-the layer (``./<file>``), so the folder and the ``.usdz`` resolve the same way.
+``TANGENT`` split into a float3 primvar and its sign (USD has no standard
+tangent primvar; MikkTSpace's, :mod:`matshop.render.tangent_space`).
+Textures are referenced relative to the layer (``./<file>``), so the folder
+and the ``.usdz`` resolve the same way.
 
 A ``.usdz`` is a zip of the ``.usda`` (first, as the format asks) and the
 textures it references, written by ``Sdf.ZipFileWriter`` (64-byte aligned).

@@ -20,11 +20,10 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from functools import cache
 
-import MaterialX as mx
 from pxr import Usd, UsdShade, UsdValidation
 
+from .mtlx import standard_library
 from .usd_mtlx import SDF_TYPES
 
 _MISSING_ID = "MissingShaderIdInRegistry"
@@ -42,17 +41,10 @@ class Finding:
         return f"{self.severity} {self.name}: {self.message}"
 
 
-@cache
-def _library() -> mx.Document:
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    return library
-
-
 def materialx_id_problems(shader: UsdShade.Shader) -> list[str]:
     """Why ``shader`` (an ``ND_*`` id) does not match MaterialX's library; [] if it does."""
     shader_id = shader.GetIdAttr().Get()
-    nodedef = _library().getNodeDef(shader_id)
+    nodedef = standard_library().getNodeDef(shader_id)
     where = shader.GetPath()
     if nodedef is None:
         return [f"{where}: {shader_id} is not a MaterialX nodedef"]
