@@ -264,6 +264,15 @@ def test_materialx_document_validates_compiles_and_reads_the_exported_files(
         assert shader.getInput(base[model]).getValue() == 1.0
     assert (shader.getInput("occlusion") is not None) == (model == "gltf_pbr")
 
+    # the round trip: the document re-imports with the source's values (8 bits: within a code)
+    back, _ = load_material(summary.file(".mtlx"))
+    expected = set(PARAMETERS) | ({"ao"} if model == "gltf_pbr" else set())
+    assert expected <= set(back.schema.names)
+    for param in back.schema.names:
+        error = np.abs(back.maps[param].astype(np.float64) - emissive.maps[param]).max()
+        assert error < (2.5 if param == "normal" else 1.01) / 255, param
+    assert back.sources["normal"]["convention"] == preset.normal_convention
+
     generated = glsl_pixel_shader(doc)
     pixel = generated.getStage(mx_gen_shader.PIXEL_STAGE)
     assert "void main" in pixel.getSourceCode()
@@ -287,6 +296,26 @@ def test_cli_export_writes_and_summarises(tmp_path: Path, capsys: pytest.Capture
     assert main(args) == 2  # exists: needs --force
     assert "--force" in capsys.readouterr().err
     assert main([*args, "--force"]) == 0
+
+
+def test_info_reads_a_mtlx_and_refuses_what_it_cannot(
+    tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    out = tmp_path / "out"
+    args = ["export", str(SAMPLE), str(out), "--preset", "unreal", "--size", "64", "--mtlx"]
+    assert main(args) == 0
+    capsys.readouterr()
+    assert main(["info", str(out / "tiles.mtlx")]) == 0
+    info = capsys.readouterr().out
+    assert "tiles_ORM.png" in info and "directx normals (the MaterialX graph)" in info
+    text = (out / "tiles.mtlx").read_text()
+    odd = text.replace("<extract ", "<noise3d ").replace("</extract>", "</noise3d>")
+    (out / "odd.mtlx").write_text(odd)
+    (out / "cut.mtlx").write_text(text[: len(text) // 2])
+    for name, problem in (("odd.mtlx", "cannot read node"), ("cut.mtlx", "not a MaterialX")):
+        assert main(["info", str(out / name)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert problem in err and name in err and "\n" not in err, err
 
 
 def test_cli_errors_are_one_line(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:

@@ -22,6 +22,7 @@ from ..material import PARAMETER_KINDS, Material, ProgressCallback, Schema
 from ..spaces.frame import decode_normal_map, encode_normal_map, height_to_normal
 from .fileset import PendingFile, write_all
 from .images import ImageInfo, read_image, write_image
+from .mtlx_material import MTLX_SUFFIX, read_mtlx_material
 from .normal_convention import (
     CONVENTION_ATTRIBUTE,
     CONVENTION_TOKENS,
@@ -145,8 +146,8 @@ def load_material(
     """
     if isinstance(path, TextureSet):
         ts = path
-    elif is_usd(path):
-        return _load_usd(Path(path), spaces)
+    elif is_usd(path) or Path(path).suffix.lower() == MTLX_SUFFIX:
+        return _load_document(Path(path), spaces)
     else:
         ts = resolve_texture_set(path, material=material, maps=maps)
     check_texture_set(ts)
@@ -217,12 +218,18 @@ def load_material(
     return Material(ts.name, schema, maps, sources), report
 
 
-def _load_usd(path: Path, spaces: dict[str, str] | None) -> tuple[Material, LoadReport]:
-    """A USD file's UsdPreviewSurface material (:mod:`.usd_material`)."""
-    material = read_usd_material(path, spaces=spaces)
+def _load_document(path: Path, spaces: dict[str, str] | None) -> tuple[Material, LoadReport]:
+    """The material a USD file's UsdPreviewSurface (:mod:`.usd_material`) or a MaterialX
+    document's surface shader (:mod:`.mtlx_material`) reads."""
+    if is_usd(path):
+        material = read_usd_material(path, spaces=spaces)
+        note = f"read from {path.name}'s UsdPreviewSurface"
+    else:
+        material = read_mtlx_material(path, spaces=spaces)
+        note = f"read from {path.name}'s MaterialX graph"
     files = {name: Path(source["file"]) for name, source in material.sources.items()}
     ts = TextureSet(material.name, path.parent, files)
-    return material, LoadReport(ts, notes=[f"read from {path.name}'s UsdPreviewSurface"])
+    return material, LoadReport(ts, notes=[note])
 
 
 def _load_frame(
