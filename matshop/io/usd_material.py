@@ -30,7 +30,7 @@ from ..spaces.frame import decode_normal_map
 from .images import read_image
 
 if TYPE_CHECKING:  # pxr loads only when a USD file is read
-    from pxr import Usd, UsdShade
+    from pxr import Sdf, Usd, UsdShade
 
 USD_SUFFIXES = frozenset({".usda", ".usdc", ".usd", ".usdz"})
 #: UsdPreviewSurface input -> matshop parameter
@@ -65,16 +65,19 @@ def _bound_material(stage: Usd.Stage, path: Path) -> UsdShade.Material:
     raise MatshopError("no Material in this USD file", path)
 
 
-def _texels(resolved: str, path: Path) -> tuple[np.ndarray, str]:
-    """The pixels of a resolved texture (a file, or a file inside a package) and its depth."""
+def _texels(asset: Sdf.AssetPath, path: Path) -> tuple[np.ndarray, str]:
+    """The pixels of a texture (a file, or a file inside a package) and its bit depth."""
     from pxr import Ar
 
+    resolved = asset.resolvedPath
+    if not resolved:
+        raise MatshopError(f"texture {asset.path} is missing", path)
     if os.path.isfile(resolved):
         pixels, info = read_image(resolved)
         return pixels, info.bit_depth
     asset = Ar.GetResolver().OpenAsset(Ar.ResolvedPath(resolved))
     if asset is None:
-        raise MatshopError(f"cannot open texture {resolved}", path)
+        raise MatshopError(f"cannot open texture {asset.path}", path)
     suffix = Path(resolved.rstrip("]")).suffix
     with tempfile.TemporaryDirectory(prefix="matshop-usd-") as scratch:
         copy = Path(scratch) / f"texture{suffix}"
@@ -111,7 +114,7 @@ def read_usd_material(path: str | os.PathLike, *, spaces: dict[str, str] | None 
         if texture.GetIdAttr().Get() != "UsdUVTexture" or output not in _CHANNELS:
             raise MatshopError(f"{name} is not read from a UsdUVTexture", path)
         asset = texture.GetInput("file").Get()
-        pixels, depth = _texels(asset.resolvedPath, path)
+        pixels, depth = _texels(asset, path)
         picks = _CHANNELS[output]
         packed = pixels.shape[2] > 1 and len(picks) == 1
         if pixels.shape[2] == 1:  # one channel: every output reads it
