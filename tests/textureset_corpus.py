@@ -273,6 +273,16 @@ CASES = [
         unrecognised=("oak_notes.png",),
     ),
     Case(
+        "a_material_named_like_the_start_of_another_lends_nothing",
+        {
+            "rock_wall_diff_2k.png": RGB,
+            "rock_wall_nor_gl_2k.png": RGB,
+            "rock_wall_02_diff_2k.png": RGB,
+        },
+        {"base_color": "rock_wall_02_diff_2k.png"},
+        material="rock_wall_02_2k",
+    ),
+    Case(
         "a_base_map_under_a_parent_prefix",
         {
             "table_top_base_color.png": RGB,

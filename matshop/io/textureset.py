@@ -187,11 +187,16 @@ class _Group:
         return f"{self.name or '(unnamed)'}{resolution} ({count} map{'s' * (count != 1)})"
 
     def lends_to(self, other: _Group) -> bool:
+        """Whether ``other`` may take this group's maps for the slots it lacks: a ``_shared_``
+        group lends to the materials named after its stem; another group only when it is no
+        material of its own (no base colour) and its name is the start of ``other``'s."""
         if other is self or self.variants not in ((), other.variants):
             return False
         if other.words[: len(self.stem)] != self.stem:
             return False
-        return self.shared or len(other.words) > len(self.words)
+        if self.shared:
+            return True
+        return len(other.words) > len(self.words) and "base_color" not in self.claims
 
 
 @dataclass
