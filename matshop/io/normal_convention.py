@@ -63,7 +63,7 @@ def decide_convention(
         "default",
         f"read as {DEFAULT_CONVENTION} normals by default: the map's own guess ({guess}, "
         f"confidence {confidence:.2f}) is below {CONFIDENT_GUESS:.2f}, the least acted on; "
-        "choose with --normal-convention or the editor's Normals control",
+        "choose with --normal-convention or the Normal map control of the editor's open dialog",
     )
 
 
