@@ -113,6 +113,7 @@ def export_material(
     *,
     name: str | None = None,
     size: int | None = None,
+    keep_variance: bool = False,
     strict: bool = False,
     force: bool = False,
     glb: bool = False,
@@ -133,6 +134,8 @@ def export_material(
     name : the ``{material}`` of file names (default: the material's name).
     size : longest side in texels, a power of two; the material is resampled
         in editing space. Default: keep the material's size.
+    keep_variance : with ``size``, widen the lobe by the normal tilt variance
+        the reduction averages away (docs/variance.md).
     strict : refuse to fill missing parameters with engine defaults.
     force : replace existing files.
     glb : also write ``<name>.glb`` (glTF binary: the material, glTF-packed
@@ -184,7 +187,9 @@ def export_material(
         mtlx_doc = checked_document(preset, outputs, texture_files, name, mtlx_shader)
 
     if size is not None:
-        material = resize_material(material, target_size(material.size, size))
+        material = resize_material(
+            material, target_size(material.size, size), keep_variance=keep_variance
+        )
     elif not all(is_power_of_two(n) for n in material.size):
         height, width = material.size
         warnings.append(f"{width}x{height} is not a power of two; engines may pad or rescale it")

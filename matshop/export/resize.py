@@ -18,6 +18,7 @@ import scipy.sparse
 from ..errors import MatshopError
 from ..material import EditMaterial, Material
 from ..memory import require_memory
+from ..ops.variance import lost_slope_covariance, widen_lobes
 
 _LOBES = 3
 
@@ -76,8 +77,15 @@ def resize_array(array: np.ndarray, size_hw: tuple[int, int]) -> np.ndarray:
     return np.ascontiguousarray(data, dtype=np.float32)
 
 
-def resize_material(material: Material, size_hw: tuple[int, int]) -> Material:
-    """``material`` resampled to ``size_hw``, filtered in editing space."""
+def resize_material(
+    material: Material, size_hw: tuple[int, int], *, keep_variance: bool = False
+) -> Material:
+    """``material`` resampled to ``size_hw``, filtered in editing space.
+
+    ``keep_variance``: widen the lobe by the normal tilt variance a reduction
+    averages away (:mod:`matshop.ops.variance`), so the smaller material keeps
+    the larger one's look from afar. Only reductions lose variance.
+    """
     if tuple(size_hw) == tuple(material.size):
         return material
     (out_h, out_w), (_, in_w) = size_hw, material.size
@@ -86,7 +94,17 @@ def resize_material(material: Material, size_hw: tuple[int, int]) -> Material:
     need = 8 * channels * (2 * out_h * out_w + out_h * in_w) + 8 * channels * out_h * out_w
     require_memory(need, f"resampling to {out_w}x{out_h}")
     edit = material.to_edit()
-    smaller = EditMaterial(edit.name, edit.schema, resize_array(edit.data, size_hw), edit.sources)
+    data = resize_array(edit.data, size_hw)
+    reduced = size_hw[0] < material.size[0] or size_hw[1] < material.size[1]
+    if keep_variance and reduced and "normal" in material.maps:
+        normal = material.maps["normal"]
+        cov = lost_slope_covariance(normal[..., :3], lambda a: resize_array(a, size_hw))
+        frame = edit.schema["normal"].space.from_edit(
+            np.ascontiguousarray(data[..., edit.schema.edit_slices["normal"]])
+        )
+        tangent = frame[..., 3:6] if frame.shape[-1] >= 6 else None
+        data = widen_lobes(data, edit.schema, cov, tangent=tangent, op="export --keep-variance")
+    smaller = EditMaterial(edit.name, edit.schema, data, edit.sources)
     resized = smaller.to_physical()
     resized.sources = {k: dict(v) for k, v in material.sources.items()}
     return resized

@@ -54,6 +54,12 @@ def add_parsers(verbs: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--size", type=int, metavar="N", help="longest side in texels, a power of two"
     )
+    parser.add_argument(
+        "--keep-variance",
+        action="store_true",
+        help="with --size: widen the roughness by the normal detail the reduction removes, "
+        "so the smaller set keeps the look from afar",
+    )
     parser.add_argument("--name", help="material name in file names (default: the set's name)")
     parser.add_argument("--glb", action="store_true", help="also write <name>.glb with a mesh")
     parser.add_argument(
@@ -102,6 +108,8 @@ def run(args: argparse.Namespace) -> int:
         raise MatshopError("export needs IN and OUT (or --list-presets)")
     if (args.preset is None) == (args.preset_file is None):
         raise MatshopError("give exactly one of --preset NAME or --preset-file FILE")
+    if args.keep_variance and args.size is None:
+        raise MatshopError("--keep-variance only applies with --size N")
     if args.mesh is not None and not (args.glb or args.usd or args.usdz):
         raise MatshopError("--mesh is only used with --glb, --usd or --usdz")
     preset = load_preset(args.preset, path=args.preset_file)
@@ -118,6 +126,7 @@ def run(args: argparse.Namespace) -> int:
         args.output,
         name=args.name,
         size=args.size,
+        keep_variance=args.keep_variance,
         strict=args.strict,
         force=args.force,
         glb=args.glb,

@@ -17,6 +17,7 @@ import numpy as np
 from ..material import Schema
 from .selection import Selection
 from .spec import BORDER, OpError, OpSpec, ParamSpec
+from .variance import lobe_parameters, lost_slope_covariance, widen_lobes
 
 #: OpenCV's kernel for float images spans +-4 sigma
 _TRUNCATE = 4.0
@@ -89,10 +90,24 @@ def _wrapped_pass(image: np.ndarray, kernel: np.ndarray, radius: int, axis: int)
     return out
 
 
+#: how errors about the variance option name it
+_KEEP = "blur keep_variance=true"
+
+#: OpenCV 5's filters take at most this many channels (a 128-bin sampled lobe
+#: next to a few colours is more): wider arrays are blurred in blocks
+MAX_CV_CHANNELS = 128
+
+
 def gaussian(image: np.ndarray, sigma_px: float, border: str) -> np.ndarray:
     """Blur an (H, W, C) float32 array; ``border`` is ``"wrap"`` or ``"clamp"``."""
     if sigma_px == 0:
         return image.copy()
+    if image.ndim == 3 and image.shape[2] > MAX_CV_CHANNELS:
+        blocks = range(0, image.shape[2], MAX_CV_CHANNELS)
+        return np.concatenate(
+            [gaussian(image[..., k : k + MAX_CV_CHANNELS], sigma_px, border) for k in blocks],
+            axis=2,
+        )
     image = np.ascontiguousarray(image)
     radius = kernel_radius_px(sigma_px)
     if radius == 0:  # a one-tap kernel (sigma below ~0.07 px) is the identity
@@ -124,6 +139,7 @@ def gaussian_blur(
     *,
     sigma_px: float = 2.0,
     border: str = "wrap",
+    keep_variance: bool = False,
     schema: Schema | None = None,
     params: Sequence[str] | str | None = None,
     mask: np.ndarray | None = None,
@@ -137,6 +153,10 @@ def gaussian_blur(
         Standard deviation in texels (0 is a no-op).
     border : {"wrap", "clamp"}
         Wrap for tiling textures; clamp repeats the edge texels.
+    keep_variance : bool
+        When the normal is among the blurred parameters, widen every lobe
+        parameter (selected or not) by the slope variance the blur removed
+        from the normals (:mod:`matshop.ops.variance`); colours are untouched.
     schema, params, mask : selection and blending, see :mod:`matshop.ops.selection`.
     """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op="blur")
@@ -145,7 +165,34 @@ def gaussian_blur(
             f"blur: sigma_px={sigma_px:g} is far larger than the {edit.shape[1]}x"
             f"{edit.shape[0]} image"
         )
-    return selection.put(edit, gaussian(selection.take(edit), sigma_px, border))
+    if keep_variance and schema is not None:
+        lobe_parameters(schema, _KEEP)  # refuse before the costly part
+    out = selection.put(edit, gaussian(selection.take(edit), sigma_px, border))
+    if keep_variance:
+        out = _keep_variance(edit, out, schema, selection, sigma_px, border)
+    return out
+
+
+def _keep_variance(
+    before: np.ndarray,
+    after: np.ndarray,
+    schema: Schema | None,
+    selection: Selection,
+    sigma_px: float,
+    border: str,
+) -> np.ndarray:
+    """``after`` with its lobes widened by the tilt the blur took out of the normals."""
+    if schema is None:
+        raise OpError(f"{_KEEP}: needs the material's schema (which channels are normals)")
+    if "normal" not in schema or "normal" not in {g.name.split(".")[0] for g in selection.groups}:
+        return after  # the normals were not blurred: no tilt was lost
+    space = schema["normal"].space
+    cut = schema.edit_slices["normal"]
+    normal = space.from_edit(np.ascontiguousarray(before[..., cut]))
+    cov = lost_slope_covariance(normal[..., :3], lambda a: gaussian(a, sigma_px, border))
+    frame = space.from_edit(np.ascontiguousarray(after[..., cut]))
+    tangent = frame[..., 3:6] if frame.shape[-1] >= 6 else None
+    return widen_lobes(after, schema, cov, tangent=tangent, mask=selection.mask, op=_KEEP)
 
 
 SPECS = (
@@ -165,6 +212,14 @@ SPECS = (
                 ui_range=(0.0, 64.0),
             ),
             BORDER,
+            ParamSpec(
+                "keep_variance",
+                "bool",
+                False,
+                "widen the lobe (roughness, Beckmann m, Phong/Ashikhmin-Shirley exponents) by "
+                "the normal tilt variance the blur removes; acts whenever normal is blurred, "
+                "even if the lobe parameter is not selected",
+            ),
         ),
         linear=True,
         neighbourhood=True,

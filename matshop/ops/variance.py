@@ -1,0 +1,193 @@
+"""Variance kept: the tilt an averaging removes, carried into the lobe's width.
+
+Blurring or downsizing a normal map averages small-scale tilt away, so the
+result rendered from afar has a sharper, shinier highlight than the detailed
+material seen from the same distance (specular aliasing; Toksvig 2005, LEAN
+mapping, Olano and Baker 2010). For a linear averaging ``A`` (rows summing to
+one) over the normals' slopes ``s = (-n_x/n_z, -n_y/n_z)`` the covariance the
+averaging removes is ``A(s s^T) - A(s) A(s)^T``; adding its trace to the
+lobe's total slope variance (``alpha^2`` for GGX and Beckmann) keeps the
+far-field look. docs/variance.md has the derivation and the measurement.
+
+Pure functions over arrays: :func:`lost_slope_covariance` needs only normals
+and the averaging; :func:`widen_lobes` rewrites the lobe channels of an edit
+array and never narrows a lobe or touches any other channel.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from ..material import Schema
+from ..spaces.base import Space
+from .spec import OpError
+
+#: An averaging: ``(H, W, C) float32 -> (H', W', C) float32``, linear, weights summing to 1.
+Average = Callable[[np.ndarray], np.ndarray]
+
+#: Grazing normals have unbounded slopes; cap ``n_z`` at cos(87 deg) (slope ~19)
+#: so one bad texel cannot make a whole footprint rough.
+MIN_NZ = 0.05
+
+#: Lobe families widened here, by the ``family`` attribute of their space.
+WIDENED_FAMILIES = ("ggx", "beckmann", "phong", "ashikhmin_shirley")
+
+
+def slopes(normal: np.ndarray) -> np.ndarray:
+    """Unit tangent-space normals ``(..., 3)`` -> microfacet slopes ``(..., 2)``, float64.
+
+    ``s = (-n_x / n_z, -n_y / n_z)``: the slope of the facet plane along x and y;
+    ``n_z`` is clamped to :data:`MIN_NZ` from below.
+    """
+    n = np.asarray(normal, dtype=np.float64)
+    nz = np.maximum(n[..., 2], MIN_NZ)
+    return np.stack([-n[..., 0] / nz, -n[..., 1] / nz], axis=-1)
+
+
+def _clamp_psd(xx: np.ndarray, xy: np.ndarray, yy: np.ndarray) -> np.ndarray:
+    """Symmetric 2x2 ``[[xx, xy], [xy, yy]]`` with negative eigenvalues set to 0, ``(..., 3)``.
+
+    An averaging with negative weights (Lanczos) or rounding can leave a
+    slightly indefinite matrix; a variance cannot be negative.
+    """
+    mean = 0.5 * (xx + yy)
+    radius = np.sqrt((0.5 * (xx - yy)) ** 2 + xy * xy)
+    big, small = mean + radius, mean - radius
+    out = np.stack([xx, xy, yy], axis=-1)
+    # one negative eigenvalue: keep big * v v^T, with v v^T = (S - small I) / (big - small)
+    one_neg = (small < 0) & (big > 0)
+    scale = np.where(one_neg, big / np.where(one_neg, 2.0 * radius, 1.0), 0.0)
+    projected = np.stack([xx - small, xy, yy - small], axis=-1) * scale[..., None]
+    out = np.where(one_neg[..., None], projected, out)
+    return np.where((big <= 0)[..., None], 0.0, out)
+
+
+def lost_slope_covariance(normal: np.ndarray, average: Average) -> np.ndarray:
+    """Slope covariance ``A(s s^T) - A(s) A(s)^T`` the averaging removes: ``(H', W', 3)``.
+
+    Channels are ``(xx, xy, yy)``, float64, positive semi-definite per texel.
+    The slopes are taken relative to their image mean first: the covariance
+    does not change (the weights sum to one) and float32 averaging then
+    loses nothing to cancellation (a constant tilt gives exactly zero).
+    """
+    s = slopes(normal)
+    s = s - s.reshape(-1, 2).mean(axis=0)
+    sx, sy = s[..., 0], s[..., 1]
+    moments = np.stack([sx, sy, sx * sx, sx * sy, sy * sy], axis=-1).astype(np.float32)
+    m = average(np.ascontiguousarray(moments)).astype(np.float64)
+    mx, my = m[..., 0], m[..., 1]
+    return _clamp_psd(m[..., 2] - mx * mx, m[..., 3] - mx * my, m[..., 4] - my * my)
+
+
+# --------------------------------------------------------------------------- lobes
+# Each takes physical values and the slope variance to add (per axis for the
+# anisotropic lobe) and returns widened physical values.
+
+
+def _ggx(r: np.ndarray, added: np.ndarray) -> np.ndarray:
+    # engines store r with alpha = r^2; total slope variance alpha^2 (docs/variance.md)
+    alpha = np.clip(r, 0.0, 1.0) ** 2
+    return np.sqrt(np.minimum(np.sqrt(alpha * alpha + added), 1.0))
+
+
+def _beckmann(m: np.ndarray, added: np.ndarray) -> np.ndarray:
+    # per-axis slope variance m^2 / 2, so the total is m^2
+    m = np.maximum(m, 0.0)
+    return np.sqrt(m * m + added)
+
+
+def _phong(n: np.ndarray, added: np.ndarray) -> np.ndarray:
+    # Walter et al. 2007: Phong n matches Beckmann m^2 = 2 / (n + 2)
+    return np.maximum(2.0 / (2.0 / (np.maximum(n, 0.0) + 2.0) + added) - 2.0, 0.0)
+
+
+def _axis_exponent(n: np.ndarray, added_axis: np.ndarray) -> np.ndarray:
+    # one axis of Ashikhmin-Shirley: per-axis slope variance 1 / (n + 2)
+    return np.maximum(1.0 / (1.0 / (np.maximum(n, 0.0) + 2.0) + added_axis) - 2.0, 0.0)
+
+
+def _tangent_axes(cov: np.ndarray, tangent: np.ndarray | None) -> np.ndarray:
+    """Slope variances ``(..., 2)`` along the tangent and bitangent (x and y without a tangent)."""
+    xx, xy, yy = cov[..., 0], cov[..., 1], cov[..., 2]
+    if tangent is None:
+        return np.stack([xx, yy], axis=-1)
+    # the tangent's direction in the texture plane; Sigma rotated into (t, b)
+    angle = np.arctan2(tangent[..., 1], tangent[..., 0])
+    c, s = np.cos(angle), np.sin(angle)
+    uu = c * c * xx + 2 * c * s * xy + s * s * yy
+    vv = s * s * xx - 2 * c * s * xy + c * c * yy
+    return np.stack([uu, vv], axis=-1)
+
+
+def _widen_physical(
+    space: Space, phys: np.ndarray, cov: np.ndarray, tangent: np.ndarray | None
+) -> np.ndarray:
+    trace = (cov[..., 0] + cov[..., 2])[..., None]
+    family = space.family  # type: ignore[attr-defined]
+    if family == "ggx":
+        return _ggx(phys, trace)
+    if family == "beckmann":
+        return _beckmann(phys, trace)
+    if family == "phong":
+        return _phong(phys, trace)
+    return _axis_exponent(phys, _tangent_axes(cov, tangent))
+
+
+def lobe_parameters(schema: Schema, op: str = "keep variance") -> list[str]:
+    """Names of the lobe parameters :func:`widen_lobes` rewrites; refuses lobes it cannot widen."""
+    names = []
+    for param in schema.parameters:
+        family = getattr(param.space, "family", None)
+        if family in WIDENED_FAMILIES:
+            names.append(param.name)
+        elif param.name == "distribution" or param.space.name.startswith("sampled"):
+            raise OpError(
+                f"{op}: cannot widen the sampled distribution {param.name!r} yet "
+                "(GGX, Beckmann, Phong and Ashikhmin-Shirley lobes only)"
+            )
+    return names
+
+
+def widen_lobes(
+    edit: np.ndarray,
+    schema: Schema,
+    cov: np.ndarray,
+    *,
+    tangent: np.ndarray | None = None,
+    mask: np.ndarray | None = None,
+    op: str = "keep variance",
+) -> np.ndarray:
+    """``edit`` with every lobe parameter widened by the slope covariance ``cov`` (``(H, W, 3)``).
+
+    Parameters
+    ----------
+    edit : (H, W, C) float32 edit array laid out by ``schema``; not modified.
+    cov : (H, W, 3) lost slope covariance ``(xx, xy, yy)`` (:func:`lost_slope_covariance`).
+    tangent : (H, W, 3) tangent-space tangents, or None; Ashikhmin-Shirley's
+        ``nu`` / ``nv`` take the variance along them (x and y without).
+    mask : (H, W) in [0, 1]: the widening is blended in by it, as an op's mask blends.
+
+    The lobe never narrows: every edit coordinate grows with the lobe's width,
+    so the result is the larger of the old and the widened edit value, and
+    texels with no lost variance keep their exact bits. Other channels are
+    copied unchanged.
+    """
+    names = lobe_parameters(schema, op)
+    if not names:
+        raise OpError(
+            f"{op}: the material has no lobe parameter to widen (roughness, "
+            "beckmann_roughness, phong_exponent or anisotropic_exponents)"
+        )
+    out = edit.copy()
+    lost = (cov[..., 0] + cov[..., 2]) > 0
+    for name in names:
+        space = schema[name].space
+        block = np.ascontiguousarray(edit[..., schema.edit_slices[name]])
+        widened = space.to_edit(_widen_physical(space, space.from_edit(block), cov, tangent))
+        widened = np.maximum(widened.astype(np.float32), block)
+        if mask is not None:
+            widened = block + mask[..., None] * (widened - block)
+        out[..., schema.edit_slices[name]] = np.where(lost[..., None], widened, block)
+    return out
