@@ -41,9 +41,10 @@ BAND_TEXELS = 1 << 20
 
 def channel_selector(layer: Layer, schema) -> slice | np.ndarray | None:
     """Which edit channels a layer writes: None (all), a slice, or an index array."""
-    if layer.parameters is None:
+    written = layer.written_parameters(schema)
+    if written is None:
         return None
-    index = schema.channel_indices(layer.parameters)
+    index = schema.channel_indices(written)
     if index.size and index[-1] - index[0] + 1 == index.size:
         return slice(int(index[0]), int(index[-1]) + 1)
     return index

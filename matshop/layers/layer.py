@@ -97,6 +97,10 @@ class Layer:
             return int(value)
         raise AssertionError(name)  # pragma: no cover - PROPERTIES and branches agree
 
+    def written_parameters(self, schema: Schema) -> tuple[str, ...] | None:
+        """The parameters the compositor takes from this layer (None: all)."""
+        return self.parameters
+
     def get(self, name: str) -> Any:
         """A property's current value (what an edit stores to undo)."""
         return getattr(self, name)
@@ -310,6 +314,17 @@ class FilterLayer(Layer):
             op, params = value
             return (op, bind_filter(op, params)[1])
         return super().validate(name, value, schema)
+
+    def written_parameters(self, schema: Schema) -> tuple[str, ...] | None:
+        """Its parameters, plus the lobes a blur with ``keep_variance`` widens when it
+        blurs the normals (the widening is the point of the option)."""
+        params = self.parameters
+        if params is None or "normal" not in params or not self.op_params.get("keep_variance"):
+            return params
+        from ..ops.variance import lobe_parameters
+
+        extra = set(lobe_parameters(schema)) - set(params)
+        return tuple(n for n in schema.names if n in params or n in extra)
 
     def get(self, name: str) -> Any:
         if name == "filter":
