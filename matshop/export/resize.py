@@ -92,6 +92,8 @@ def resize_material(
     channels = material.schema.edit_width
     # float64 passes (rows, then columns) and the float32 maps either side
     need = 8 * channels * (2 * out_h * out_w + out_h * in_w) + 8 * channels * out_h * out_w
+    if keep_variance:  # float64 slopes and float32 moments at the input size, a few passes
+        need += 64 * material.size[0] * in_w
     require_memory(need, f"resampling to {out_w}x{out_h}")
     edit = material.to_edit()
     data = resize_array(edit.data, size_hw)
