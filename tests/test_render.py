@@ -229,6 +229,36 @@ def test_sampled_d_integrates_to_the_table_mass(alpha):
     assert integral == pytest.approx(1.0, abs=0.005)
 
 
+@pytest.mark.parametrize("alpha", [0.05, 0.2, 0.5])
+def test_sampled_d_follows_the_closed_form_without_rings(alpha):
+    """Inside each bin D is linear in sin^2 about the bin's mean: against the closed-form
+    GGX D it errs 3-40x less than reading the bins as steps (measured weighted L1 2.8 /
+    0.17 / 0.017 % vs 9.5 / 2.3 / 0.73 %), and its jumps at bin edges, which draw rings
+    round a highlight, are 3-40x smaller."""
+    n = 128
+    edges = np.arange(n + 1) * (np.pi / 2 / n)
+    tan2 = np.tan(np.minimum(edges, np.pi / 2 - 1e-12)) ** 2
+    table = np.diff(tan2 / (alpha**2 + tan2)) / (np.pi * np.diff(np.sin(edges) ** 2))
+    theta = np.linspace(0.0, np.radians(80.0), 20001)
+    t2 = np.tan(theta) ** 2
+    truth = alpha**2 / (np.pi * np.cos(theta) ** 4 * (alpha**2 + t2) ** 2)
+    steps = table[np.clip((theta * (n / (np.pi / 2))).astype(int), 0, n - 1)]
+    weight = np.cos(theta) * np.sin(theta)
+
+    def err(d):
+        return np.sum(np.abs(d - truth) * weight) / np.sum(truth * weight)
+
+    got = brdf.sampled_d(theta, table)
+    inner = edges[1:-1][edges[1:-1] < np.radians(80.0)]
+    jumps = np.abs(brdf.sampled_d(inner + 1e-9, table) - brdf.sampled_d(inner - 1e-9, table))
+    step_jumps = np.abs(np.diff(table))[: inner.size]
+    print(f"alpha {alpha}: L1 {err(got):.5f} (steps {err(steps):.5f})")
+    assert err(got) < 0.35 * err(steps)
+    assert np.max(jumps / table[1 : inner.size + 1]) < 0.3 * np.max(
+        step_jumps / table[1 : inner.size + 1]
+    )
+
+
 # ---------------------------------------------------------------------- the real set
 
 

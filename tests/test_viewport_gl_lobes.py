@@ -67,9 +67,10 @@ MEAN_TOLERANCE = 0.4
 P99_TOLERANCE = 3.0
 # Sampled lobes (chessboard at 256^2, read at level 0 by both): the GPU reads D from a
 # 16-level inverse-CDF lookup (shading_maps), the reference from the 128-bin table:
-#   GGX table: lookup 0.59 / 3 (both read D as mass-exact: the reference per bin, the
-#   GPU linear within each of its 17 segments);
-#   two-lobe table (70% GGX alpha + 30% GGX 4 alpha): lookup 0.53 / 2, while the old
+#   GGX table: lookup 0.52 / 3 (both read D mass-exactly and without steps: the
+#   reference linear in sin^2 inside each of its 128 bins, the GPU inside each of its
+#   17 segments, with a power-law tail);
+#   two-lobe table (70% GGX alpha + 30% GGX 4 alpha): lookup 0.45 / 2, while the old
 #   stand-in, the GGX lobe of the same median angle, measures 2.1 / 10.
 SAMPLED_MEAN_TOLERANCE = 0.8
 SAMPLED_P99_TOLERANCE = 4.0
@@ -176,7 +177,13 @@ def test_sampled_lobes_from_their_inverse_cdf(viewport, small, family, request):
         # chessboard, whose limits these are): on the bundled sample's low
         # roughness the GPU's 16-node inverse-CDF lookup measures mean 1.02 / p99 6
         # (GGX table) and 0.83 / 5 (two-lobe), worse than the median-matched GGX
-        # (0.32 / 3). Strict: it fails loudly once the lookup is made accurate.
+        # (0.32 / 3). With the samples' pdf from the nodes' central slope and a
+        # mass-exact power-law tail: 0.87 / 6 and 0.78 / 5 (median GGX 0.29 / 3).
+        # What is left is the table, not the lookup: the metal's alpha ~ 0.02 lobe
+        # lies inside two of the 128 bins (0.7 deg), so the space's quantiles
+        # there (PCHIP across bin edges) and the reference's bins read the same
+        # under-resolved lobe differently: D(0) 1368 (GPU) vs 578 (reference) vs
+        # 796 (closed form). Strict: it fails loudly once they agree.
         request.applymarker(
             pytest.mark.xfail(strict=True, reason="16-node GPU lookup too coarse at low roughness")
         )
