@@ -379,6 +379,10 @@ def cmd_paint(args: argparse.Namespace) -> int:
             session = StrokeSession(doc, layer.id, stroke.brush, history=history, **stroke.options)
         except ValueError as exc:
             raise MatshopError(f"stroke {number}: {exc}", args.stroke) from None
+        if session.note:
+            print(f"stroke {number}: {session.note}")
+            if stroke.layer is None:  # later strokes go where this one went
+                default = doc.layer(session.layer_id)
         session.add(stroke.samples)
         session.end()
         total += session.dabs

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from matshop.errors import MatshopError
-from matshop.layers import AddLayer, Document, History, Rect, SetMask
+from matshop.layers import AddLayer, Document, History, Rect, SetMask, SetProperty
 from matshop.material import Material, Schema
 from matshop.paint import (
     Brush,
@@ -218,14 +218,111 @@ def test_a_partial_swatch_paints_a_layer_limited_to_its_parameters() -> None:
         assert np.array_equal(after[name], before[name]), name
 
 
-def test_a_swatch_missing_a_parameter_the_layer_affects_is_refused() -> None:
-    doc, _, layer_id = make_doc()
-    with pytest.raises(ValueError, match="affects base_color, normal, metallic"):
+def _channels_of(doc: Document, names) -> list[int]:
+    return [
+        c
+        for n in names
+        for c in range(doc.schema.edit_slices[n].start, doc.schema.edit_slices[n].stop)
+    ]
+
+
+def test_a_partial_swatch_in_a_new_layer_paints_its_parameters_and_leaves_the_others() -> None:
+    """A layer affecting everything, a swatch of roughness only: roughness is painted,
+    every other edit channel stays bit-identical (the layer is limited to roughness, in
+    the stroke's undo step)."""
+    doc, history, layer_id = make_doc()
+    before = doc.flatten_edit()
+    polish = Swatch("polish", {"roughness": (0.05,)})
+    session = StrokeSession(
+        doc, layer_id, Brush(radius_px=10, hardness=1), swatch=polish, history=history
+    )
+    session.add(line(20, 50, 70, 50))
+    session.end()
+    after = doc.flatten_edit()
+    others = _channels_of(doc, ["base_color", "normal", "metallic"])
+    assert np.array_equal(after[..., others], before[..., others])
+    assert doc.physical()["roughness"][50, 45, 0] == pytest.approx(0.05, abs=1e-5)
+    assert doc.layer(layer_id).parameters == ("roughness",)
+    assert session.layer_id == layer_id and "roughness" in session.note
+    history.undo()  # one step: the pixels and the layer's parameters
+    assert np.array_equal(doc.flatten_edit(), before)
+    assert doc.layer(layer_id).parameters is None
+
+
+def test_a_partial_swatch_on_a_painted_layer_goes_to_a_new_layer_above() -> None:
+    doc, history, layer_id = make_doc()
+    brush = Brush(radius_px=10, hardness=1)
+    paint_stroke(doc, layer_id, line(10, 20, 80, 20), brush, swatch=BRONZE, history=history)
+    before = doc.flatten_edit()
+    polish = Swatch("polish", {"roughness": (0.05,)})
+    # across the bronze stroke and onto unpainted texels
+    session = StrokeSession(doc, layer_id, brush, swatch=polish, history=history)
+    session.add(line(45, 5, 45, 90))
+    session.end()
+    after = doc.flatten_edit()
+    others = _channels_of(doc, ["base_color", "normal", "metallic"])
+    assert np.array_equal(after[..., others], before[..., others])
+    rough = doc.physical()["roughness"]
+    assert rough[20, 45, 0] == pytest.approx(0.05, abs=1e-5)  # over the bronze
+    assert rough[70, 45, 0] == pytest.approx(0.05, abs=1e-5)  # over the base
+    new = doc.layer(session.layer_id)
+    assert session.layer_id != layer_id and new.parameters == ("roughness",)
+    assert doc.index_of(new.id) == doc.index_of(layer_id) + 1
+    assert doc.layer(layer_id).parameters is None  # the painted layer is left alone
+    history.undo()
+    assert np.array_equal(doc.flatten_edit(), before)
+    assert [layer.id for layer in doc.layers].count(new.id) == 0
+
+
+def test_a_swatch_of_none_of_the_layers_parameters_is_refused() -> None:
+    doc, _, layer_id = make_doc(parameters=["base_color"])
+    with pytest.raises(ValueError, match="affects only base_color: nothing to paint"):
         StrokeSession(doc, layer_id, Brush(), swatch=Swatch("polish", {"roughness": (0.05,)}))
     with pytest.raises(ValueError, match="does not have"):
         Swatch("odd", {"sheen": (1.0,)}).edit_values(SCHEMA)
     with pytest.raises(ValueError, match="needs 3 value"):
         Swatch("odd", {"base_color": (1.0,), "roughness": (1,)}).edit_values(SCHEMA)
+
+
+def test_a_stroke_that_changes_nothing_leaves_no_undo_step() -> None:
+    doc, history, layer_id = make_doc()
+    steps = history.report().undo_steps
+    # the eraser over an empty layer, and a mask painted with what it already shows
+    assert (
+        paint_stroke(doc, layer_id, line(10, 10, 80, 80), Brush(), mode="erase", history=history)
+        is None
+    )
+    history.push(SetMask(layer_id, doc.new_mask(1.0)))
+    assert (
+        paint_stroke(
+            doc,
+            layer_id,
+            line(10, 10, 80, 80),
+            Brush(),
+            target="mask",
+            mask_value=1.0,
+            history=history,
+        )
+        is None
+    )
+    assert history.report().undo_steps == steps + 1  # only the mask's own step
+
+
+def test_after_invert_a_mask_still_shows_what_is_painted_white_reveals_black_hides() -> None:
+    doc, history, layer_id = make_doc()
+    below = doc.flatten_edit()[48, 48].copy()
+    paint_stroke(doc, layer_id, [StrokeSample(48, 48)], Brush(radius_px=40), swatch=BRONZE)
+    shown = doc.flatten_edit()[48, 48].copy()
+    history.push(SetMask(layer_id, doc.new_mask(1.0)))
+    history.push(SetProperty(layer_id, "mask_inverted", True))
+    assert np.allclose(doc.flatten_edit()[48, 48], below, atol=1e-6)  # inverted: all hidden
+    dot, hard = [StrokeSample(48.5, 48.5)], Brush(radius_px=4, hardness=1)
+    paint_stroke(doc, layer_id, dot, hard, target="mask", mask_value=1.0)  # white
+    assert np.allclose(doc.flatten_edit()[48, 48], shown, atol=1e-6)
+    paint_stroke(doc, layer_id, dot, hard, target="mask", mask_value=0.0)  # black
+    assert np.allclose(doc.flatten_edit()[48, 48], below, atol=1e-6)
+    paint_stroke(doc, layer_id, dot, hard, target="mask", mode="erase", mask_value=0.0)
+    assert np.allclose(doc.flatten_edit()[48, 48], shown, atol=1e-6)  # the eraser reveals
 
 
 def test_erasing_the_same_path_removes_the_coverage() -> None:

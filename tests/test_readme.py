@@ -38,3 +38,59 @@ def test_readme_python_example_runs(number: int, tmp_path: Path, monkeypatch) ->
     written = {p for p in set(tmp_path.rglob("*")) - before if p.is_file()}
     # every example ends by saving something: a texture set or a project
     assert any(p.suffix in (".png", ".exr", ".matshop") for p in written), written
+
+
+def _headless_recipe() -> tuple[list[str], str]:
+    """The README's "Layered projects, headless" commands and its stroke file, as written."""
+    text = (ROOT / "README.md").read_text()
+    section = text[text.index("### Layered projects, headless") :]
+    commands = re.search(r"```sh\n(.*?)```", section, re.S).group(1)
+    strokes = re.search(r"```json\n(.*?)```", section, re.S).group(1)
+    lines = [line.split("  #")[0].strip() for line in commands.splitlines() if line.strip()]
+    return lines, strokes
+
+
+def _codes(path: Path) -> np.ndarray:
+    import OpenImageIO as oiio
+
+    buf = oiio.ImageBuf(str(path))
+    spec = buf.spec()
+    return np.asarray(buf.get_pixels(oiio.UINT8)).reshape(spec.height, spec.width, -1)
+
+
+def test_readme_headless_recipe_runs_as_written(tmp_path: Path) -> None:
+    """Every command of the recipe exits 0; the stroke paints what its swatch sets, AO stays."""
+    import os
+    import shlex
+    import subprocess
+    import sys
+
+    lines, strokes = _headless_recipe()
+    assert lines[0].startswith("matshop new") and any("matshop paint" in x for x in lines)
+    (tmp_path / "steel").symlink_to(SAMPLE, target_is_directory=True)
+    (tmp_path / "rust").symlink_to(SAMPLE, target_is_directory=True)
+    ramp = np.repeat(np.linspace(0, 1, 512, dtype=np.float32)[None, :, None], 512, axis=0)
+    write_image(tmp_path / "gradient.png", ramp)
+    (tmp_path / "strokes.json").write_text(strokes)
+    # the recipe as written, then the same project without the painted layer
+    extra = ["matshop layer remove rusty.matshop Scratches", "matshop flatten rusty.matshop bare/"]
+    for line in lines + extra:
+        argv = shlex.split(line)
+        assert argv[0] == "matshop"
+        run = subprocess.run(
+            [sys.executable, "-m", "matshop", *argv[1:]],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            env={**os.environ, "PYTHONPATH": str(ROOT)},
+        )
+        assert run.returncode == 0, f"{line}\n{run.stdout}\n{run.stderr}"
+    painted, bare = tmp_path / "out", tmp_path / "bare"
+    # the swatch sets no AO: the stroke left it exactly as the layers below make it
+    ao = _codes(next(painted.glob("*_ao.png")))
+    assert np.array_equal(ao, _codes(next(bare.glob("*_ao.png"))))
+    # on the stroke's centre line (hardness 0.7, full opacity) the bronze base color shows
+    base = _codes(next(painted.glob("*_basecolor.png")))
+    bronze = np.round(255 * np.array([0.45, 0.25, 0.08]))
+    np.testing.assert_allclose(base[125, 175, :3], bronze, atol=1)
+    assert not np.array_equal(base, _codes(next(bare.glob("*_basecolor.png"))))

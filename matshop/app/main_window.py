@@ -120,6 +120,14 @@ class MainWindow(QMainWindow):
         self.background.progress.connect(self._background_progress)
         self.background.message.connect(self.show_message)
         self.busy_indicator.cancel.clicked.connect(self.background.cancel)
+        for signal in (
+            self.session.activeLayerChanged,
+            self.session.layersChanged,
+            self.session.targetChanged,
+            self.session.historyChanged,
+            self.swatch_model.changed,
+        ):
+            signal.connect(self.update_tool_action)
 
         self.set_tool("brush")
         self._rebuild_recent()
@@ -221,6 +229,10 @@ class MainWindow(QMainWindow):
         self.values_label = QLabel("")
         self.values_label.setFont(mono)
         self.busy_indicator = BusyIndicator()
+        #: what pressing on the canvas will do with the current tool, layer and swatch
+        self.tool_label = QLabel("")
+        self.tool_label.setObjectName("hint")
+        status.addPermanentWidget(self.tool_label)
         status.addPermanentWidget(self.values_label, 1)
         status.addPermanentWidget(self.busy_indicator)
         status.addPermanentWidget(self.texel_label)
@@ -245,6 +257,12 @@ class MainWindow(QMainWindow):
             tool.label, tool.tip, uses_brush=tool.uses_brush, uses_swatch=name == "brush"
         )
         self.canvas.update()
+        self.update_tool_action()
+
+    def update_tool_action(self, *_args) -> None:
+        """The status bar says what the active tool will do (layer, mask, parameters)."""
+        tool = self.canvas.tool
+        self.tool_label.setText("" if tool is None else tool.action())
 
     def show_parameter(self, name: str) -> None:
         self.canvas.set_parameter(name)

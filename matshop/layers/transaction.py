@@ -169,6 +169,17 @@ class PaintTransaction:
             raise ValueError(f"alpha is {alpha.shape}, {rect} needs ({rect.height}, {rect.width})")
         return alpha
 
+    @property
+    def changed(self) -> bool:
+        """Whether any touched texel now differs from what it held before the transaction."""
+        for key, tile in self._working.items():
+            before = self._before[key]
+            if before is None:
+                before = np.broadcast_to(self.grid.fill, tile.shape)
+            if not np.array_equal(tile, before):
+                return True
+        return False
+
     def commit(self) -> PaintEdit:
         """Freeze the touched tiles and return the (already applied) edit."""
         if not self._open:

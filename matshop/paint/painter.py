@@ -21,10 +21,10 @@ from typing import Literal
 import numpy as np
 
 from ..layers.document import Document
-from ..layers.edits import PaintEdit
+from ..layers.edits import AddLayer, CompoundEdit, Edit, SetProperty
 from ..layers.geometry import Rect, periodic_runs
 from ..layers.history import History
-from ..layers.layer import PaintLayer
+from ..layers.layer import Layer, PaintLayer
 from ..layers.tiles import TileGrid
 from ..layers.transaction import PaintTransaction
 from ..ops.spec import MAX_OFFSET_PX
@@ -73,8 +73,13 @@ class StrokeSession:
         filters among them, are not applied twice) from ``clone_offset``
         texels away (dx, dy) into the pixels.
     swatch : Swatch, optional
-        Needed to paint pixels. It must set every parameter the layer affects
-        (other channels of the layer keep their values).
+        Needed to paint pixels. The stroke paints exactly the parameters the
+        swatch sets (those the layer affects) and leaves every other parameter
+        of the material as it is (see :func:`fit_layer`; :attr:`layer_id` is
+        the layer actually painted, :attr:`note` says why when it differs).
+    mask_value : float
+        What painting shows in a mask, as the mask reads: 1 reveals the layer,
+        0 hides it, also after the mask was inverted (Photoshop's white and black).
     history : History, optional
         Where :meth:`end` pushes the stroke as one step.
     """
@@ -112,7 +117,6 @@ class StrokeSession:
         if not 0.0 <= mask_value <= 1.0:
             raise ValueError(f"mask value must lie in [0, 1], got {mask_value:g}")
         self.doc = doc
-        self._layer_id = layer_id
         self.brush = brush
         self.mode = mode
         self.target = target
@@ -120,10 +124,22 @@ class StrokeSession:
         self.history = history
         self._values: np.ndarray | float = 0.0
         self._channels: np.ndarray | None = None
+        #: the edit (already applied) that made the layer fit the swatch, undone with the stroke
+        self._prepare: Edit | None = None
+        #: why the stroke paints another layer or changed the layer's parameters ("" if not)
+        self.note = ""
         if target == "mask":
-            self._values = mask_value if mode == "paint" else 1.0 - mask_value
+            shown = mask_value if mode == "paint" else 1.0 - mask_value
+            # the mask stores what shows before the inversion: paint what shows after it
+            self._values = 1.0 - shown if layer.mask_inverted else shown
         elif mode == "paint":
-            self._values, self._channels = self._swatch_values(layer, swatch)
+            if swatch is None:
+                raise ValueError("painting pixels needs a swatch (the material to paint)")
+            layer, self._prepare, self.note = fit_layer(doc, layer, swatch)
+            if self._prepare is not None:
+                self._prepare.apply(doc)
+            self._values, self._channels = swatch.edit_values(doc.schema)
+        self._layer_id = layer_id = layer.id
         self._offset = (int(round(clone_offset[0])), int(round(clone_offset[1])))
         # the stroke's own accumulation: picked-up values (clone) and alpha S
         carried = doc.channels if mode == "clone" else 0
@@ -135,22 +151,10 @@ class StrokeSession:
         self._transaction = PaintTransaction(doc, layer_id, target, label or default)
         self.dabs = 0
 
-    def _swatch_values(
-        self, layer: PaintLayer, swatch: Swatch | None
-    ) -> tuple[np.ndarray, np.ndarray]:
-        if swatch is None:
-            raise ValueError("painting pixels needs a swatch (the material to paint)")
-        schema = self.doc.schema
-        vector, channels = swatch.edit_values(schema)
-        affected = layer.parameters or schema.names
-        missing = [p for p in affected if p not in swatch.values]
-        if missing:
-            raise ValueError(
-                f"layer {layer.name!r} affects {', '.join(missing)}, which swatch "
-                f"{swatch.name!r} does not set: pick a swatch that does or limit the "
-                f"layer's parameters"
-            )
-        return vector, channels
+    @property
+    def layer_id(self) -> int:
+        """The layer this stroke paints (a new one when :func:`fit_layer` made one)."""
+        return self._layer_id
 
     def add(self, samples: Iterable[StrokeSample]) -> list[Dab]:
         """Feed input samples; paints the dabs they place and returns them."""
@@ -191,22 +195,81 @@ class StrokeSession:
         else:
             tx.paint(rect, self._values, weight, channels=self._channels, over_original=True)
 
-    def end(self) -> PaintEdit | None:
+    def end(self) -> Edit | None:
         """Finish the stroke: one (applied) edit, pushed to the history if there is one.
 
-        Returns None when the stroke painted nothing.
+        Returns None, and leaves no trace, when the stroke changed no texel (an
+        eraser over nothing, a mask painted with the value it already has).
         """
-        if not self._transaction.keys:
-            self._transaction.cancel()
+        if not self._transaction.changed:
+            self.cancel()
             return None
-        edit = self._transaction.commit()
+        edit: Edit = self._transaction.commit()
+        if self._prepare is not None:
+            edit = CompoundEdit([self._prepare, edit], label=edit.label)
         if self.history is not None:
             self.history.push(edit, applied=True)
         return edit
 
     def cancel(self) -> None:
-        """Abandon the stroke: every texel it touched goes back."""
+        """Abandon the stroke: every texel it touched goes back, and the layer as it was."""
         self._transaction.cancel()
+        if self._prepare is not None:
+            self._prepare.revert(self.doc)
+            self._prepare = None
+
+
+def fit_layer(doc: Document, layer: PaintLayer, swatch: Swatch) -> tuple[Layer, Edit | None, str]:
+    """Where a stroke of ``swatch`` goes so it paints its parameters and leaves the others.
+
+    A paint layer holds one coverage for all its parameters, so a stroke
+    raising coverage also shows the layer's values of parameters the swatch
+    does not set. To leave those as they are, the painted layer must affect
+    only parameters the swatch sets:
+
+    - the layer does (or the swatch sets all it affects): paint it as it is;
+    - it affects more but holds no paint yet: the stroke limits it to the
+      swatch's parameters (nothing shown changes; undone with the stroke);
+    - it affects more and holds paint: the stroke goes into a new paint layer
+      just above, affecting the swatch's parameters (one undo step with it).
+
+    Parameters the swatch sets that the layer does not affect stay unpainted:
+    a layer's parameter limit is the artist's choice. Returns ``(layer to
+    paint, the edit making it so or None, a sentence saying what changed)``.
+
+    Raises ValueError when the swatch sets none of the parameters the layer affects.
+    """
+    painted, skipped = stroke_parameters(doc, layer, swatch)
+    if not painted:
+        raise ValueError(
+            f"swatch {swatch.name!r} sets {', '.join(swatch.parameters)}; layer "
+            f"{layer.name!r} affects only {', '.join(skipped)}: nothing to paint"
+        )
+    if not skipped:
+        return layer, None, ""
+    limit = None if len(painted) == len(doc.schema.names) else painted
+    names = ", ".join(painted)
+    if layer.pixels is None or len(layer.pixels) == 0:
+        edit = SetProperty(layer.id, "parameters", limit)
+        return layer, edit, f"layer {layer.name!r} now affects what the swatch sets: {names}"
+    fresh = doc.new_paint_layer(parameters=limit, parent=layer.parent)  # in the same group
+    edit = AddLayer(fresh, doc.index_of(layer.id) + 1)
+    return (
+        fresh,
+        edit,
+        f"painted into new layer {fresh.name!r} ({names}): {layer.name!r} also affects "
+        f"{', '.join(skipped)}, which the swatch does not set",
+    )
+
+
+def stroke_parameters(
+    doc: Document, layer: Layer, swatch: Swatch
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """``(parameters a stroke of swatch paints in layer, those the layer affects but it does
+    not set)``, in schema order."""
+    affected = layer.parameters or doc.schema.names
+    painted = tuple(p for p in affected if p in swatch.values)
+    return painted, tuple(p for p in affected if p not in swatch.values)
 
 
 def paint_stroke(
@@ -215,7 +278,7 @@ def paint_stroke(
     samples: Iterable[StrokeSample],
     brush: Brush,
     **options,
-) -> PaintEdit | None:
+) -> Edit | None:
     """A whole stroke at once (scripts, the CLI, tests): see :class:`StrokeSession`."""
     session = StrokeSession(doc, layer_id, brush, **options)
     session.add(samples)

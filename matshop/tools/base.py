@@ -111,6 +111,10 @@ class Tool:
     def cancel(self) -> None:
         """Abandon what is in progress (Escape, a document change)."""
 
+    def action(self) -> str:
+        """What pressing on the canvas will do now, in a sentence (the status bar's)."""
+        return f"{self.label}: {self.tip}"
+
     def cursor_radius(self) -> float | None:
         """Radius in texels of the outline to draw around the cursor (None: none)."""
         return None

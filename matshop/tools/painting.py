@@ -4,22 +4,30 @@ Each stroke is one :class:`~matshop.paint.StrokeSession` into the active
 paint layer, or into the active layer's mask while its thumbnail is selected
 (the brush hides, the eraser reveals): press starts it,
 every move feeds it a sample, release ends it and hands the single edit to
-the host's history, so a stroke is one undo step. Engine refusals (a swatch
-that does not cover the layer's parameters...) become a status message, never
-an exception in the event loop.
+the host's history, so a stroke is one undo step; a stroke that changes
+nothing leaves no step. :meth:`StrokeTool.action` says beforehand what a
+press will do (the status bar shows it). Engine refusals become a status
+message, never an exception in the event loop.
 """
 
 from __future__ import annotations
 
 import math
 
+from ..layers import Layer, PaintLayer
 from ..paint import StrokeSample, StrokeSession
+from ..paint.painter import stroke_parameters
 from .base import Tool, ToolEvent, ToolHost
 from .seamless_clone import SeamlessCloneTool
 
-#: What the brush paints into a mask: 0 hides the layer there, like painting black in
-#: a paint program's layer mask (a new mask shows everything); the eraser paints 1 - it.
+#: What the brush paints into a mask, as the mask reads: 0 hides the layer there, like
+#: painting black in a paint program's layer mask (a new mask shows everything), also
+#: after Invert; the eraser paints 1 - it (white: reveals).
 MASK_HIDE = 0.0
+
+
+def _labels(names: tuple[str, ...]) -> str:
+    return ", ".join(name.replace("_", " ") for name in names)
 
 
 def _sample(event: ToolEvent) -> StrokeSample:
@@ -68,6 +76,8 @@ class StrokeTool(Tool):
         except ValueError as exc:  # the engine's sentence says what to change
             self.host.message(str(exc))
             return
+        if self._session.note:
+            self.host.message(self._session.note[0].upper() + self._session.note[1:])
         self._session.add([_sample(event)])
 
     def _mask_options(self) -> dict | None:
@@ -98,6 +108,27 @@ class StrokeTool(Tool):
     def cursor_radius(self) -> float | None:
         return self.host.brush().radius_px
 
+    def action(self) -> str:
+        doc = self.host.doc
+        if doc is None:
+            return ""
+        layer_id = self.host.active_layer()
+        layer = None if layer_id is None else doc.layer(layer_id)
+        if self.host.stroke_target() == "mask" and layer is not None and layer.mask is not None:
+            if self.mode == "clone":
+                return f"{self.label}: paints layer pixels; select the layer, not its mask"
+            verb = "hides" if self.mode == "paint" else "reveals"
+            return f"{self.label}: {verb} layer {layer.name!r} where it paints (its mask)"
+        return self._pixels_action(layer)
+
+    def _pixels_action(self, layer: Layer | None) -> str:
+        verb = {"paint": "paints into", "erase": "erases paint from", "clone": "copies into"}
+        if isinstance(layer, PaintLayer):
+            return f"{self.label}: {verb[self.mode]} layer {layer.name!r}"
+        if self.creates_layer:
+            return f"{self.label}: {verb[self.mode]} a new paint layer"
+        return f"{self.label}: select a paint layer (or a layer's mask)"
+
 
 class BrushTool(StrokeTool):
     """Paints the swatch (every enabled parameter at once); Alt/Ctrl-click picks it."""
@@ -116,6 +147,27 @@ class BrushTool(StrokeTool):
         except ValueError as exc:
             self.host.message(str(exc))
             return None
+
+
+    def _pixels_action(self, layer: Layer | None) -> str:
+        try:
+            swatch = self.host.swatch()
+        except ValueError as exc:
+            return f"Brush: {exc}"
+        doc = self.host.doc
+        assert doc is not None
+        if not isinstance(layer, PaintLayer):
+            return f"Brush: paints {_labels(swatch.parameters)} into a new paint layer"
+        painted, skipped = stroke_parameters(doc, layer, swatch)
+        if not painted:
+            return f"Brush: layer {layer.name!r} affects none of the swatch's parameters"
+        text = f"Brush: paints {_labels(painted)} into layer {layer.name!r}"
+        if skipped and len(layer.pixels or ()) > 0:
+            return (
+                f"Brush: paints {_labels(painted)} into a new layer above {layer.name!r} "
+                f"(it also affects {_labels(skipped)}, which the swatch leaves as they are)"
+            )
+        return text
 
 
 class EraserTool(StrokeTool):
@@ -146,6 +198,11 @@ class CloneTool(StrokeTool):
         super().__init__(host)
         self.source: tuple[float, float] | None = None
         self.offset: tuple[float, float] | None = None
+
+    def _pixels_action(self, layer: Layer | None) -> str:
+        if self.offset is None and self.source is None:
+            return "Clone stamp: Alt-click (or Ctrl-click) to set the source first"
+        return super()._pixels_action(layer)
 
     def _options(self, event: ToolEvent) -> dict | None:
         if event.pick:
