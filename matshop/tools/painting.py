@@ -148,7 +148,6 @@ class BrushTool(StrokeTool):
             self.host.message(str(exc))
             return None
 
-
     def _pixels_action(self, layer: Layer | None) -> str:
         try:
             swatch = self.host.swatch()
