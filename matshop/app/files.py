@@ -6,6 +6,10 @@ completely before anything is replaced). Autosave writes a recovery file on
 a timer: beside the project (``io.recovery``), or for a texture set that was
 never saved as a project, in the settings' recovery folder under a name
 derived from the set's path, so opening the set again offers the restore.
+
+Reading, writing and exporting run on a worker (:func:`.work.run_off_ui`):
+the window keeps painting and shows a progress dialog while they last. The
+worker reads a new file or a :meth:`Document.snapshot`, never the live document.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from ..layers import Document
 from .prompts import Prompts
 from .session import DocumentSession
 from .settings import AppSettings
+from .work import Work, run_off_ui
 
 PROJECT_SUFFIX = ".matshop"
 
@@ -49,9 +54,12 @@ class FileController(QObject):
         prompts: Prompts,
         settings: AppSettings,
         editor_state: Callable[[], dict[str, Any]],
+        busy: Callable[[], bool] = lambda: False,
     ) -> None:
         super().__init__()
         self.session = session
+        #: a stroke is in progress (its tiles change in place: no snapshot now)
+        self.busy = busy
         self.prompts = prompts
         self.settings = settings
         self.editor_state = editor_state
@@ -104,12 +112,12 @@ class FileController(QObject):
         recovery = find_recovery(key)
         if recovery is not None:
             if self.prompts.ask_restore(recovery):
-                project = load_project(recovery)
+                project = self._off_ui(f"Restoring {path.name}…", lambda _: load_project(recovery))
                 return project.document, project_path, _editor(project.settings), True
             with contextlib.suppress(MatshopError):
                 discard_recovery(key)
         if project_path is not None:
-            project = load_project(path)
+            project = self._off_ui(f"Opening {path.name}…", lambda _: load_project(path))
             return project.document, project_path, _editor(project.settings), False
         try:
             detected = detect_texture_set(path)
@@ -123,8 +131,16 @@ class FileController(QObject):
             if reviewed is None:
                 raise _Declined
             detected = reviewed  # as the user corrected it
-        material, _report = load_material(detected)
-        return Document.from_material(material), None, {}, False
+
+        def read(work: Work) -> Document:
+            material, _report = load_material(detected)
+            return Document.from_material(material)
+
+        return self._off_ui(f"Opening {path.name}…", read), None, {}, False
+
+    def _off_ui(self, label: str, fn: Callable[[Work], Any], cancellable: bool = False) -> Any:
+        """``fn`` on a worker while the window stays live (see :mod:`.work`)."""
+        return run_off_ui(self.prompts.parent, label, fn, cancellable=cancellable)
 
     def open_dialog(self) -> None:
         path = self.prompts.open_file(self._start_dir())
@@ -173,8 +189,11 @@ class FileController(QObject):
             return False
         path = Path(path)
         old_key = self.recovery_target()
+        snapshot, settings = doc.snapshot(), {"editor": self.editor_state()}
         try:
-            save_project(doc, path, settings={"editor": self.editor_state()})
+            self._off_ui(
+                f"Saving {path.name}…", lambda _: save_project(snapshot, path, settings=settings)
+            )
         except MatshopError as exc:
             self.prompts.error("Cannot save", str(exc))
             return False
@@ -207,11 +226,14 @@ class FileController(QObject):
     def autosave(self) -> Path | None:
         """Write the recovery file if there are changes it does not hold yet."""
         target = self.recovery_target()
-        if target is None or not self.session.needs_autosave:
-            return None
+        if target is None or not self.session.needs_autosave or self.busy():
+            return None  # a stroke in progress: its tiles change; the next tick saves
+        snapshot, settings = self.session.doc.snapshot(), {"editor": self.editor_state()}
         try:
             target.parent.mkdir(parents=True, exist_ok=True)
-            written = write_recovery(self.session.doc, target, {"editor": self.editor_state()})
+            written = self._off_ui(
+                "Autosaving…", lambda _: write_recovery(snapshot, target, settings)
+            )
         except (MatshopError, OSError) as exc:
             self.message.emit(f"Autosave failed: {_one_line(exc, target)}")
             return None
@@ -251,8 +273,11 @@ class FileController(QObject):
         folder = None if preset is None else self.prompts.export_folder(self._start_dir())
         if preset is None or folder is None:
             return
+        snapshot = self.session.doc.snapshot()
         try:
-            material = self.session.doc.flatten_physical()
+            material = self._off_ui(
+                "Flattening the layers for export…", lambda _: snapshot.flatten_physical()
+            )
             chosen = load_preset(preset)
             plan = plan_export(material, chosen, folder)
         except MatshopError as exc:
@@ -269,13 +294,16 @@ class FileController(QObject):
         if usd:
             plan = plan + usd_plan
         try:
-            summary = export_material(
-                material,
-                chosen,
-                folder,
-                name=export_name(material),
-                force=any(planned.exists for planned in plan),  # the user saw them listed
-                usdz=usd,
+            summary = self._off_ui(
+                f"Exporting {preset} to {folder}…",
+                lambda _: export_material(
+                    material,
+                    chosen,
+                    folder,
+                    name=export_name(material),
+                    force=any(planned.exists for planned in plan),  # the user saw them listed
+                    usdz=usd,
+                ),
             )
         except MatshopError as exc:
             self.prompts.error("Cannot export", str(exc))

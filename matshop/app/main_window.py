@@ -69,7 +69,7 @@ class MainWindow(QMainWindow):
         self.swatch_model = SwatchModel()
         self.layer_commands = LayerCommands(self.session, self.swatch_model.swatch)
         self.files = FileController(
-            self.session, self.prompts, self.app_settings, self.editor_state
+            self.session, self.prompts, self.app_settings, self.editor_state, self._tool_busy
         )
         self.host = EditorToolHost(
             self.session,

@@ -8,11 +8,12 @@ carries no buttons, which sliders need).
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from PySide6.QtCore import QEvent, QPoint, QPointF, QSettings, Qt
+from PySide6.QtCore import QEvent, QEventLoop, QPoint, QPointF, QSettings, Qt, QTimer
 from PySide6.QtGui import QMouseEvent
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication, QWidget
@@ -134,6 +135,62 @@ def shown_window(qtbot: Any, folder: Path, *, size: tuple[int, int] = (1560, 940
     qtbot.waitExposed(window)
     window.activateWindow()
     return window
+
+
+def spin(ms: int) -> None:
+    """Run the event loop for ``ms`` milliseconds.
+
+    A QEventLoop, not ``processEvents()``: in PySide6 6.12 every ``processEvents()``
+    call drops a reference to None it does not own (see ``tests/conftest.py``).
+    """
+    loop = QEventLoop()
+    QTimer.singleShot(ms, loop.quit)
+    loop.exec()
+
+
+class Heartbeat:
+    """A 10 ms timer measuring event-loop stalls: wall and GUI-thread CPU time between ticks.
+
+    The GUI thread's CPU time between two ticks is the work that blocked the loop;
+    the wall gap adds whatever time the OS gave to other threads and processes.
+    """
+
+    def __init__(self) -> None:
+        self.timer = QTimer()
+        self.timer.setInterval(10)
+        self.timer.timeout.connect(self._tick)
+        self.wall_gaps: list[float] = []
+        self.cpu_gaps: list[float] = []
+
+    def _tick(self) -> None:
+        wall, cpu = time.perf_counter(), time.thread_time()
+        self.wall_gaps.append(wall - self._wall)
+        self.cpu_gaps.append(cpu - self._cpu)
+        self._wall, self._cpu = wall, cpu
+
+    def measure(
+        self, action: Callable[[], object], settle: Callable[[], bool], timeout_s: float = 60.0
+    ) -> tuple[object, float, float]:
+        """Run ``action``, then the event loop until ``settle()``.
+
+        Returns ``(action's result, longest wall gap, longest GUI-thread CPU gap)`` in seconds.
+        """
+        self.wall_gaps, self.cpu_gaps = [], []
+        self._wall, self._cpu = time.perf_counter(), time.thread_time()
+        self.timer.start()
+        result = action()
+        end = time.perf_counter() + timeout_s
+        while not settle() and time.perf_counter() < end:
+            spin(5)
+        self.timer.stop()
+        self._tick()
+        return result, max(self.wall_gaps), max(self.cpu_gaps)
+
+    def idle(self, seconds: float) -> float:
+        """The longest wall gap with nothing to do for ``seconds`` (the machine's own noise)."""
+        end = time.perf_counter() + seconds
+        _, wall, _ = self.measure(lambda: None, lambda: time.perf_counter() > end)
+        return wall
 
 
 def _mouse(

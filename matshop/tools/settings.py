@@ -93,10 +93,12 @@ class BrushSettings(QObject):
 
 
 #: Physical defaults of a fresh swatch: a rusty iron a user can see on any material.
+#: Colors are file codes (sRGB-encoded): linear rust (0.42, 0.12, 0.035) and a
+#: dielectric's linear F0 of 0.04, encoded.
 _DEFAULTS: dict[str, tuple[float, ...]] = {
-    "base_color": (0.42, 0.12, 0.035),
-    "diffuse": (0.42, 0.12, 0.035),
-    "specular": (0.04, 0.04, 0.04),
+    "base_color": (0.68, 0.38, 0.2),
+    "diffuse": (0.68, 0.38, 0.2),
+    "specular": (0.22, 0.22, 0.22),
     "emissive": (0.0, 0.0, 0.0),
     "metallic": (0.0,),
     "roughness": (0.75,),

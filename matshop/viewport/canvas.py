@@ -60,6 +60,7 @@ class TextureCanvas(QWidget):
         self.cache: DisplayCache | None = None
         self.tool: Tool | None = None
         self._image: QImage | None = None
+        self._mips: dict[int, QImage] = {}  # QImages over the display cache's mip levels
         self._fitted = False  # fit again on resize until the user zooms or pans
         self._pan_from: QPointF | None = None
         self._space = False
@@ -86,6 +87,7 @@ class TextureCanvas(QWidget):
         self.doc = doc
         self.cache = None
         self._image = None
+        self._mips: dict[int, QImage] = {}
         if doc is not None:
             name = parameter if parameter in doc.schema else doc.schema.names[0]
             self.cache = DisplayCache(doc, name, doc.normal_convention)
@@ -262,14 +264,28 @@ class TextureCanvas(QWidget):
             image = self._image
             scale = 1.0
         else:
-            pixels = self.cache.mips.level(level)
-            height, width = pixels.shape[:2]
-            image = QImage(pixels.data, width, height, width * 4, QImage.Format.Format_RGBX8888)
+            image = self._mip_image(level)
             scale = 1.0 / (1 << level)
         source = QRectF(
             visible.x0 * scale, visible.y0 * scale, visible.width * scale, visible.height * scale
         )
         painter.drawImage(target, image, source)
+
+    def _mip_image(self, level: int) -> QImage:
+        """A QImage over mip ``level`` (brought up to date), made once per level and document.
+
+        Levels are updated in place, so the image wrapping one stays valid; making
+        a buffer-wrapping QImage per paint is avoided (PySide6 mishandles the
+        references of many short-lived ones: a crash in ``none_dealloc``).
+        """
+        assert self.cache is not None
+        pixels = self.cache.mips.level(level)
+        image = self._mips.get(level)
+        if image is None:
+            height, width = pixels.shape[:2]
+            image = QImage(pixels.data, width, height, width * 4, QImage.Format.Format_RGBX8888)
+            self._mips[level] = image
+        return image
 
     def _paint_empty(self, painter: QPainter) -> None:
         painter.setPen(QColor(140, 143, 150))
