@@ -190,7 +190,9 @@ def test_the_mesh_choice_and_a_user_mesh(window, qtbot):
     assert dock.open_mesh()
     assert viewport._mesh.triangle_count == 12
     assert viewport.uv_at(viewport.width() / 2, viewport.height() / 2) is not None
-    window.prompts.mesh_path = SAMPLE / "sample_base_color.png"
+    not_a_mesh = SAMPLE / "tiles_basecolor.png"
+    assert not_a_mesh.is_file()
+    window.prompts.mesh_path = not_a_mesh
     assert not dock.open_mesh()  # not a mesh: one line, the cube stays
     assert window.prompts.kinds()[-1] == "error"
     assert viewport._mesh.triangle_count == 12

@@ -114,8 +114,11 @@ def run_off_ui(
     pulse.start()
     loop.exec()
     pulse.stop()
+    shown = dialog.isVisible()
     dialog.close()
     dialog.deleteLater()
+    if shown and parent is not None:  # without a window manager nobody gives focus back
+        parent.window().activateWindow()
     if work.error is not None:
         raise work.error
     return work.result
