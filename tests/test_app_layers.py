@@ -146,3 +146,30 @@ def test_paint_a_mask_through_its_thumbnail_invert_and_remove(window, qtbot) -> 
     for _ in range(4):
         window.session.undo()
     assert layer.mask is None and np.array_equal(doc.flatten_edit(), painted)
+
+
+def test_every_parameter_button_and_swatch_label_shows_its_whole_name(window, tmp_path) -> None:
+    """A material with eight parameters: no button text is cut (``emissi``), and the
+    layer dock keeps its width (the buttons wrap into rows)."""
+    from matshop.io.project import save_project
+    from matshop.layers import Document
+    from matshop.material import Material, Schema
+
+    names = ["base_color", "metallic", "roughness", "normal", "ao", "emissive", "opacity", "height"]
+    schema = Schema.from_names(names)
+    maps = {p.name: np.full((64, 64, p.phys_channels), 0.5, np.float32) for p in schema.parameters}
+    maps["normal"] = np.broadcast_to(np.float32([0, 0, 1]), (64, 64, 3)).copy()
+    path = tmp_path / "many.matshop"
+    save_project(Document.from_material(Material("many", schema, maps)), path)
+    width = window.layers_dock.width()
+    assert window.open_path(path)
+    QApplication.processEvents()
+    buttons = window.layers_panel.param_buttons
+    assert buttons["emissive"].text() == "Emissive"
+    for name, button in buttons.items():
+        needed = button.fontMetrics().horizontalAdvance(button.text())
+        assert needed <= button.contentsRect().width(), f"{name}: {button.text()!r} is cut"
+    assert window.layers_dock.width() <= width + 8
+    for name, check in window.tool_panel.swatch_editor.checks.items():
+        needed = check.fontMetrics().horizontalAdvance(check.text())
+        assert needed <= check.width(), f"swatch {name}: {check.text()!r} is cut"

@@ -27,7 +27,11 @@ pytest.importorskip("PySide6")
 pytest.importorskip("pytestqt")
 
 
+from PySide6.QtCore import QTimer  # noqa: E402
+from PySide6.QtWidgets import QFrame  # noqa: E402
+
 from matshop.app.testing import Heartbeat, shown_window  # noqa: E402
+from matshop.app.work import SHOW_AFTER_MS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CHESSBOARD = ROOT.parent / "shared" / "data" / "chessboard"
@@ -65,9 +69,24 @@ def test_opening_exporting_saving_and_reopening_a_2k_set_never_stalls(window, tm
         if load < (os.cpu_count() or 1):
             assert wall < STALL_LIMIT_S, report[-1]
 
+    # a probe: is the progress panel up while the set opens?
+    shown: list[bool] = []
+    probe = QTimer()
+    probe.setInterval(50)
+    probe.timeout.connect(
+        lambda: shown.append(
+            any(panel.isVisible() for panel in window.findChildren(QFrame, "progressPanel"))
+        )
+    )
+    probe.start()
+    start = time.perf_counter()
     opened, wall, cpu = beat.measure(lambda: window.open_path(CHESSBOARD), _drawn(window))
+    open_s = time.perf_counter() - start
+    probe.stop()
     assert opened and window.session.doc.size == (2048, 2048)
     check("open 2K set", wall, cpu)
+    assert any(shown) or open_s < 2 * SHOW_AFTER_MS / 1000, "no progress shown while opening"
+    assert not any(panel.isVisible() for panel in window.findChildren(QFrame, "progressPanel"))
 
     for op in ("blur", "unsharp", "curves"):  # each filter layer computes off the GUI thread
         _, wall, cpu = beat.measure(

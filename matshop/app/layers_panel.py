@@ -17,10 +17,12 @@ from PySide6.QtGui import QAction, QColor, QIcon, QPainter, QPen, QPixmap
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
+    QGridLayout,
     QHBoxLayout,
     QLabel,
     QListWidget,
     QListWidgetItem,
+    QSizePolicy,
     QStyledItemDelegate,
     QStyleOptionViewItem,
     QToolButton,
@@ -51,7 +53,18 @@ _SHORT_NAMES = {
     "ao": "AO",
     "height": "Height",
     "opacity": "Alpha",
+    "emissive": "Emissive",
+    "diffuse": "Diffuse",
+    "specular": "Specular",
+    "transmission": "Transm.",
+    "phong_exponent": "Phong",
+    "anisotropic_exponents": "Aniso",
+    "beckmann_roughness": "Beckm.",
+    "distribution": "D(θ)",
+    "profile": "Profile",
 }
+#: parameter buttons per row: the row wraps instead of widening the dock
+PARAM_COLUMNS = 4
 
 
 def _describe(layer: Layer) -> str:
@@ -146,7 +159,7 @@ class LayersPanel(QWidget):
         self.opacity.finished.connect(session.seal)
         layout.addWidget(self.opacity)
 
-        self.params_row = QHBoxLayout()
+        self.params_row = QGridLayout()
         self.params_row.setSpacing(3)
         self.param_buttons: dict[str, QToolButton] = {}
         layout.addLayout(self.params_row)
@@ -209,16 +222,17 @@ class LayersPanel(QWidget):
         doc = self.session.doc
         if doc is None:
             return
-        for name in doc.schema.names:
+        for number, name in enumerate(doc.schema.names):
             button = QToolButton()
             kind = PARAMETER_KINDS.get(name)
-            button.setText(_SHORT_NAMES.get(name, name[:6]))
+            button.setText(_SHORT_NAMES.get(name, name.replace("_", " ")))
             button.setToolTip(f"Layer affects {kind.label if kind else name}")
             button.setCheckable(True)
+            button.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
             button.clicked.connect(lambda _=False, n=name: self._toggle_parameter(n))
-            self.params_row.addWidget(button)
+            row, column = divmod(number, PARAM_COLUMNS)
+            self.params_row.addWidget(button, row, column)
             self.param_buttons[name] = button
-        self.params_row.addStretch(1)
 
     def refresh(self) -> None:
         """Rebuild the rows and show the active layer's settings."""

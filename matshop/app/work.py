@@ -20,8 +20,16 @@ import time
 from collections.abc import Callable
 from typing import Any, TypeVar
 
-from PySide6.QtCore import QEventLoop, QObject, Qt, QThreadPool, QTimer, Signal
-from PySide6.QtWidgets import QProgressDialog, QWidget
+from PySide6.QtCore import QEvent, QEventLoop, QObject, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtWidgets import (
+    QApplication,
+    QFrame,
+    QLabel,
+    QProgressBar,
+    QPushButton,
+    QVBoxLayout,
+    QWidget,
+)
 
 T = TypeVar("T")
 
@@ -63,6 +71,77 @@ class Work:
             self._relay.progress.emit(int(done), max(int(total), 1))
 
 
+class _Panel(QFrame):
+    """What is being done, a progress bar and (maybe) Cancel, centred over the window."""
+
+    def __init__(self, window: QWidget, label: str, cancellable: bool, work: Work) -> None:
+        super().__init__(window)
+        self.setObjectName("progressPanel")
+        self.setFrameShape(QFrame.Shape.StyledPanel)
+        self.setAutoFillBackground(True)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(18, 14, 18, 14)
+        self.label = QLabel(label)
+        self.bar = QProgressBar()
+        self.bar.setRange(0, 0)  # busy until the work reports a total
+        self.bar.setTextVisible(False)
+        self.bar.setMinimumWidth(260)
+        layout.addWidget(self.label)
+        layout.addWidget(self.bar)
+        self.cancel: QPushButton | None = None
+        if cancellable:
+            self.cancel = QPushButton("Cancel")
+            self.cancel.clicked.connect(work.cancelled.set)
+            self.cancel.clicked.connect(lambda: self.label.setText(f"{label} (cancelling)"))
+            layout.addWidget(self.cancel)
+        self.adjustSize()
+        self.hide()
+
+    def appear(self) -> None:
+        window = self.parentWidget()
+        self.move((window.width() - self.width()) // 2, (window.height() - self.height()) // 3)
+        self.show()
+        self.raise_()
+
+    def report(self, done: int, total: int) -> None:
+        self.bar.setRange(0, total)
+        self.bar.setValue(min(done, total))
+
+
+class _HoldInput(QObject):
+    """Swallows input to ``window`` (but not to the panel's Cancel) while work runs."""
+
+    _INPUT = {
+        QEvent.Type.MouseButtonPress,
+        QEvent.Type.MouseButtonRelease,
+        QEvent.Type.MouseButtonDblClick,
+        QEvent.Type.Wheel,
+        QEvent.Type.KeyPress,
+        QEvent.Type.KeyRelease,
+        QEvent.Type.Shortcut,
+        QEvent.Type.ShortcutOverride,
+        QEvent.Type.TabletPress,
+        QEvent.Type.TabletRelease,
+        QEvent.Type.Drop,
+        QEvent.Type.Close,
+    }
+
+    def __init__(self, window: QWidget, allowed: QWidget | None) -> None:
+        super().__init__()
+        self.window = window
+        self.allowed = allowed
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt override
+        if event.type() not in self._INPUT or not isinstance(watched, QWidget):
+            return False
+        if self.allowed is not None and watched is self.allowed:
+            return False
+        if watched.window() is self.window:
+            event.ignore()
+            return True
+        return False
+
+
 def run_off_ui(
     parent: QWidget | None,
     label: str,
@@ -75,26 +154,22 @@ def run_off_ui(
 
     ``fn`` may call ``work.progress(done, total)`` (raises :class:`Cancelled`
     after the user pressed Cancel, when ``cancellable``). The event loop runs
-    meanwhile; the dialog blocks input to ``parent``'s window.
+    meanwhile; input to ``parent``'s window is held back.
     """
     work = Work()
     loop = QEventLoop()
-    dialog = QProgressDialog(label, "Cancel" if cancellable else "", 0, 0, parent)
-    dialog.setWindowTitle("matshop")
-    dialog.setWindowModality(Qt.WindowModality.WindowModal)
-    dialog.setMinimumDuration(SHOW_AFTER_MS)
-    dialog.setAutoReset(False)
-    dialog.setAutoClose(False)
-    if not cancellable:
-        dialog.setCancelButton(None)
-    dialog.canceled.connect(work.cancelled.set)
-    dialog.setValue(0)  # starts the minimum-duration clock
-
-    def report(done: int, total: int) -> None:
-        dialog.setMaximum(total)
-        dialog.setValue(min(done, total))
-
-    work._relay.progress.connect(report)
+    window = None if parent is None else parent.window()
+    panel = None if window is None else _Panel(window, label, cancellable, work)
+    hold = None
+    if window is not None and panel is not None:
+        hold = _HoldInput(window, panel.cancel)
+        QApplication.instance().installEventFilter(hold)
+        work._relay.progress.connect(panel.report)
+    appear = QTimer()
+    appear.setSingleShot(True)
+    appear.setInterval(SHOW_AFTER_MS)
+    if panel is not None:
+        appear.timeout.connect(panel.appear)
     work._relay.done.connect(loop.quit, Qt.ConnectionType.QueuedConnection)
 
     def run() -> None:  # on the worker thread
@@ -106,19 +181,17 @@ def run_off_ui(
         work.seconds = time.perf_counter() - start
         work._relay.done.emit()
 
+    appear.start()
     (pool or QThreadPool.globalInstance()).start(run)
-    # the dialog's own timer shows it after SHOW_AFTER_MS; keep it moving meanwhile
-    pulse = QTimer()
-    pulse.setInterval(100)
-    pulse.timeout.connect(lambda: dialog.setValue(dialog.value()))
-    pulse.start()
-    loop.exec()
-    pulse.stop()
-    shown = dialog.isVisible()
-    dialog.close()
-    dialog.deleteLater()
-    if shown and parent is not None:  # without a window manager nobody gives focus back
-        parent.window().activateWindow()
+    try:
+        loop.exec()
+    finally:
+        appear.stop()
+        if hold is not None:
+            QApplication.instance().removeEventFilter(hold)
+        if panel is not None:
+            panel.hide()
+            panel.deleteLater()
     if work.error is not None:
         raise work.error
     return work.result
