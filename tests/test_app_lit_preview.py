@@ -68,3 +68,71 @@ def test_lit_display_renders_off_the_gui_thread_and_follows_the_light(qtbot, tmp
     qtbot.keyClick(canvas, Qt.Key.Key_L)
     assert not lit.enabled and canvas.overlay is None and not canvas.lit
     window.prompts.save_answer = "discard"
+
+
+def _write(path: Path, pixels: np.ndarray) -> None:
+    import OpenImageIO as oiio
+
+    out = oiio.ImageOutput.create(str(path))
+    height, width, channels = pixels.shape
+    out.open(str(path), oiio.ImageSpec(width, height, channels, oiio.UINT8))
+    out.write_image(np.ascontiguousarray(pixels))
+    out.close()
+
+
+def test_lit_display_equals_render_and_a_tilted_normal_brightens_towards_the_light(
+    qtbot, tmp_path
+) -> None:
+    """A 64x64 set whose normals lean 35 degrees towards +u: lit from +u (a right-drag to the
+    right edge) it is brighter than lit from -u, by the cosine law's margin; and the shown
+    image is the reference renderer's ``render()`` of the same flattened material and light."""
+    from matshop.render.integrator import DirectionalLight
+    from matshop.render.render import render
+
+    folder = tmp_path / "tilted"
+    folder.mkdir()
+    tilt = np.radians(35.0)
+    normal = np.array([np.sin(tilt), 0.0, np.cos(tilt)])
+    codes = np.round(255 * (normal + 1) / 2).astype(np.uint8)
+    _write(folder / "lean_normal_gl.png", np.broadcast_to(codes, (64, 64, 3)))
+    _write(folder / "lean_basecolor.png", np.full((64, 64, 3), 160, np.uint8))
+    _write(folder / "lean_roughness.png", np.full((64, 64, 1), 220, np.uint8))
+    window = make_window(tmp_path)
+    qtbot.addWidget(window)
+    window.resize(1200, 900)
+    window.show()
+    qtbot.waitExposed(window)
+    assert window.open_path(folder)
+    lit, canvas = window.lit_preview, window.canvas
+    lit.set_enabled(True)
+    means = {}
+    for side, x in (("towards", 63.5), ("away", 0.5)):
+        drag(
+            canvas,
+            [canvas.to_widget(32, 32), canvas.to_widget(x, 32)],
+            button=Qt.MouseButton.RightButton,
+        )
+        assert lit.wait(60.0)
+        shown = _pixels(canvas.overlay)[..., :3].astype(float)
+        means[side] = shown[8:-8, 8:-8].mean()
+    # cos(angle to the light): the light leans 0.85 * 0.98 of the way over in x
+    light_x = 0.85 * (63.5 / 32 - 1)
+    light = np.array([light_x, 0.0, np.sqrt(1 - light_x**2)])
+    towards, away = normal @ light, normal @ (light * [-1, 1, 1])
+    assert towards > 2 * away  # the closed form says the lean matters...
+    assert means["towards"] > means["away"] + 20  # ...and the display shows it
+    # the last picture is render() of the same material and light, with the lit
+    # display's settings written out here
+    expected = render(
+        window.session.doc.flatten_physical(),
+        scene="swatch",
+        size=64,
+        lights=(DirectionalLight(lit.light, (3.0, 3.0, 3.0)),),
+        environment_scale=0.25,
+        samples=4,
+        background=(0.12, 0.12, 0.13),
+    )
+    reference = np.clip(expected.display() * 255.0 + 0.5, 0, 255).astype(np.uint8)[..., :3]
+    shown = _pixels(canvas.overlay)[..., :3]
+    assert np.abs(shown.astype(int) - reference.astype(int)).max() <= 1
+    window.prompts.save_answer = "discard"
