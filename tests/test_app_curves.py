@@ -159,3 +159,54 @@ def test_ok_keeps_the_layer_and_reopening_edits_it(window, qtbot) -> None:
     window.session.undo()
     window.session.undo()
     assert len(doc) == 1 and np.array_equal(doc.flatten_edit(), before)
+
+
+def test_the_axes_and_readout_show_physical_roughness_and_the_histogram_spans_the_data(
+    window, qtbot
+) -> None:
+    """Roughness chosen: the ticks are the GGX roughness at lo + t * span of the op's own
+    data range, computed here from the space's closed form (edit = atan(r^2), MATH.md);
+    the readout of a dragged point says the physical values; the histogram's mass lies
+    inside [0, 1] (the data's robust range, not a corner of the space's range)."""
+    import OpenImageIO as oiio
+
+    from matshop.ops.curves import curve_ranges
+
+    assert window.open_path(SAMPLE)
+    dialog = window.open_curves()
+    assert dialog is not None
+    qtbot.waitExposed(dialog)
+    dialog.parameter.setCurrentIndex(dialog.parameter.findData("roughness"))
+    dialog.parameter.activated.emit(dialog.parameter.currentIndex())
+    doc = window.session.doc
+    (tone,) = curve_ranges(dialog._sample, schema=doc.schema, params=["roughness"])
+    axis = dialog.editor.getPlotItem().getAxis("bottom")
+    ticks = axis._tickLevels[0]  # what setTicks was given: (t, label)
+
+    def roughness(t: float) -> float:
+        # edit values outside the space's range [0, pi/4] are clamped going back (DESIGN 3)
+        edit = np.clip(tone.lo[0] + t * tone.span[0], 0.0, np.pi / 4)
+        return float(np.sqrt(np.tan(edit)))
+
+    assert len(ticks) >= 3
+    for t, label in ticks:  # round roughness values, each where the axis holds it
+        assert abs(roughness(t) - float(label)) < 0.006, (t, label, roughness(t))
+    assert "roughness" in dialog.editor.getPlotItem().getAxis("left").labelText.lower()
+    # the file's roughness range (read independently) lies within the axis' ends
+    buf = oiio.ImageBuf(str(next(SAMPLE.glob("*_roughness.*"))))
+    file_r = np.asarray(buf.get_pixels(oiio.FLOAT))[..., 0]
+    lo_r, hi_r = roughness(0.0), roughness(1.0)
+    inside = np.mean((file_r >= lo_r - 0.01) & (file_r <= hi_r + 0.01))
+    assert inside > 0.98  # the axis spans the data (0.5-99.5th percentiles inside)
+    # a dragged point reads out in roughness
+    editor, viewport = dialog.editor, dialog.editor.viewport()
+    path = [editor.to_widget(0.5, 0.5 + 0.05 * i) for i in range(5)]
+    seen = []
+    dialog.model.changed.connect(lambda: seen.append(dialog.readout.text()))
+    drag(viewport, path, pause_ms=15)
+    x, _ = min(dialog.model.points, key=lambda point: abs(point[0] - 0.5))
+    expected = f"Input {roughness(x):.2f}"
+    assert any(text.startswith(expected) and "Roughness" in text for text in seen), seen
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    assert dialog.grab().save(str(SHOTS / "10b_curves_roughness_physical.png"))
+    dialog.reject()

@@ -36,6 +36,7 @@ from ..ops.curves import IDENTITY_POINTS, curve_ranges
 from ..tools.settings import short_label
 from . import theme
 from .curve_points import CurvePoints
+from .curve_units import PhysicalAxis, physical_axis
 from .histogram import edit_histogram
 from .layer_commands import LayerCommands
 from .session import DocumentSession
@@ -166,6 +167,16 @@ class CurveEditor(pg.PlotWidget):
             axis.setTicks([[(v, f"{v:g}") for v in (0.0, 0.25, 0.5, 0.75, 1.0)]])
         self.setMinimumSize(360, 340)
 
+    def set_axes(self, axis: PhysicalAxis | None) -> None:
+        """Label both axes with physical values (None: the curve's own 0..1)."""
+        item = self.getPlotItem()
+        ticks = (
+            [(t, f"{t:g}") for t in (0.0, 0.25, 0.5, 0.75, 1.0)] if axis is None else axis.ticks(5)
+        )
+        for side, what in (("left", "output"), ("bottom", "input")):
+            item.getAxis(side).setTicks([ticks])
+            item.setLabel(side, what if axis is None else f"{what}: {axis.unit}")
+
     def to_widget(self, x: float, y: float) -> QPointF:
         """Viewport pixel of curve coordinates (x, y)."""
         return QPointF(self.mapFromScene(self.view.widget_point(x, y)))
@@ -190,6 +201,8 @@ class CurvesDialog(QDialog):
         self.layer_id: int | None = None
         self.start_steps = 0
         self._sample: np.ndarray | None = None
+        #: physical labels of the axes (None: all parameters linked, or no data yet)
+        self.axis: PhysicalAxis | None = None
 
         layout = QVBoxLayout(self)
         row = QHBoxLayout()
@@ -302,15 +315,23 @@ class CurvesDialog(QDialog):
         remap = {k: layer.op_params[k] for k in ("remap", "clip_percent")} if layer else {}
         counts = None
         text = ""
+        self.axis = None
         if doc is not None and self._sample is not None:
             params = None if not name else [name]
             counts = edit_histogram(self._sample, doc.schema, params, HISTOGRAM_BINS, **remap)
             ranges = curve_ranges(self._sample, schema=doc.schema, params=params, **remap)
-            text = f"0 → 1 spans ({remap.get('remap', 'data')}): " + "; ".join(
-                r.describe() for r in ranges
-            )
+            how = remap.get("remap", "data")
+            if name and len(ranges) == 1:  # one parameter, one group: its physical units
+                self.axis = physical_axis(doc.schema[name], ranges[0])
+                text = (
+                    f"0 → 1 spans {self.axis.text(0.0)} … {self.axis.text(1.0)}, "
+                    f"{self.axis.unit} ({how}; edit values {ranges[0].describe()})"
+                )
+            else:
+                text = f"0 → 1 spans ({how}): " + "; ".join(r.describe() for r in ranges)
         self.range_label.setText(text)
         self.editor.view.set_histogram(counts)
+        self.editor.set_axes(self.axis)
 
     # -- changes -----------------------------------------------------------------------
 
@@ -327,7 +348,12 @@ class CurvesDialog(QDialog):
             self.readout.setText(f"{len(self.model)} points")
             return
         x, y = self.model.points[index]
-        self.readout.setText(f"Input {x:.3f}  →  Output {y:.3f}")
+        if self.axis is None:
+            self.readout.setText(f"Input {x:.3f}  →  Output {y:.3f}")
+        else:
+            self.readout.setText(
+                f"Input {self.axis.text(x)}  →  Output {self.axis.text(y)}  ({self.axis.unit})"
+            )
 
     def _parameter_chosen(self, index: int) -> None:
         layer = self.layer()
