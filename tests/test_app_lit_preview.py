@@ -18,7 +18,7 @@ pytest.importorskip("pytestqt")
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from matshop.app.lit_preview import light_direction  # noqa: E402
+from matshop.app.lit_preview import QUICK_SIZE, light_direction  # noqa: E402
 from matshop.app.testing import drag, make_window  # noqa: E402
 from matshop.app.theme import apply_theme  # noqa: E402
 
@@ -60,7 +60,12 @@ def test_lit_display_renders_off_the_gui_thread_and_follows_the_light(qtbot, tmp
         button=Qt.MouseButton.RightButton,
     )
     assert lit.light == pytest.approx(light_direction(500 / 256 - 1, 500 / 256 - 1))
+    assert canvas.refining  # the picture shown is the old light's: the note says so
+    shown: list[tuple[int, bool]] = []
+    lit.rendered.connect(lambda _s: shown.append((canvas.overlay.width(), canvas.refining)))
     assert lit.wait()
+    # a quick picture first (the light follows at once), then the sharp one
+    assert shown[0] == (QUICK_SIZE, True) and shown[-1] == (512, False), shown
     moved = _pixels(canvas.overlay)
     assert np.abs(moved.astype(int) - first.astype(int)).mean() > 2
     assert window.session.steps == 0  # moving the light is no edit

@@ -28,6 +28,9 @@ from .session import DocumentSession
 
 #: Longest side of the rendered swatch (the canvas scales it to the texture).
 MAX_SIZE = 512
+#: Side of the quick first render after a change (~1/16 of the work of MAX_SIZE): the
+#: light follows the drag at once, then the sharp render replaces it.
+QUICK_SIZE = 128
 #: How far (0..1) the light may lean away from straight above at the image's edge.
 MAX_TILT = 0.85
 
@@ -82,6 +85,9 @@ class LitPreview(QObject):
         self.generation = 0
         self.job: _Job | None = None
         self.last_seconds = 0.0
+        #: generation and size of the picture on the canvas (-1: none)
+        self._shown_generation = -1
+        self._shown_size = 0
         self._relay = _Relay()
         self._relay.done.connect(self._finished)
         self._timer = QTimer(self)  # coalesces bursts (a light drag, several signals)
@@ -115,6 +121,7 @@ class LitPreview(QObject):
     def _changed(self, *_args) -> None:
         self.generation += 1
         if self.enabled:
+            self.canvas.set_refining(True)
             self._timer.start()
 
     def _start(self) -> None:
@@ -124,7 +131,10 @@ class LitPreview(QObject):
         if self.tool_busy() or not self.ready():
             self._timer.start(150)  # a stroke or a heavy flatten: try again shortly
             return
-        size = min(MAX_SIZE, max(doc.width, doc.height))
+        full = self._full()
+        # a change since the last picture: a quick render first, then the full one
+        quick = self._shown_generation != self.generation and full > QUICK_SIZE
+        size = QUICK_SIZE if quick else full
         job = _Job(self.generation, doc.snapshot(), self.light, size)
         self.job = job
 
@@ -163,11 +173,20 @@ class LitPreview(QObject):
             image = QImage(
                 job.image.data, width, height, width * 4, QImage.Format.Format_RGBA8888
             ).copy()  # owns its pixels: the array goes away
-            self.canvas.set_overlay(image, lit=True)
+            current = job.generation == self.generation
+            self._shown_generation = job.generation
+            self._shown_size = job.size
+            sharp = job.size >= self._full()
+            self.canvas.set_overlay(image, lit=True, refining=not (current and sharp))
             self.last_seconds = job.seconds
             self.rendered.emit(job.seconds)
-        if self.enabled and job.generation != self.generation:
-            self._timer.start()  # the document or the light moved on meanwhile
+        if self.enabled and (job.generation != self.generation or self._shown_size < self._full()):
+            self._timer.start()  # moved on meanwhile, or the sharp render is still to come
+
+    def _full(self) -> int:
+        """Side of the sharp render of the current document (0: none)."""
+        doc = self.session.doc
+        return 0 if doc is None else min(MAX_SIZE, max(doc.width, doc.height))
 
     def wait(self, timeout_s: float = 30.0) -> bool:
         """Process events until an up-to-date image is shown; for tests and scripts."""

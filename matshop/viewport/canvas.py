@@ -69,6 +69,7 @@ class TextureCanvas(QWidget):
         #: the lit display: a rendered image drawn over the texture (None: not yet rendered)
         self.lit = False
         self.overlay: QImage | None = None
+        self.refining = False
         self._lighting = False
         #: while set, the flatten is being computed elsewhere: keep the last picture
         self._held: str | None = None
@@ -116,11 +117,21 @@ class TextureCanvas(QWidget):
             self.cache.normal_convention = convention
             self._timer.start()
 
-    def set_overlay(self, image: QImage | None, lit: bool) -> None:
-        """Show ``image`` (a render of the whole texture) over the texture while ``lit``."""
+    def set_overlay(self, image: QImage | None, lit: bool, refining: bool = False) -> None:
+        """Show ``image`` (a render of the whole texture) over the texture while ``lit``.
+
+        ``refining``: a newer or sharper render is on its way (the note says so).
+        """
         self.lit = lit
         self.overlay = image if lit else None
+        self.refining = refining
         self.update()
+
+    def set_refining(self, refining: bool) -> None:
+        """The lit picture is out of date (the light or the material moved): say so."""
+        if refining != self.refining:
+            self.refining = refining
+            self.update(QRect(0, 0, self.width(), 64))
 
     def _light_at(self, pos: QPointF) -> None:
         if self.doc is not None:
@@ -248,7 +259,10 @@ class TextureCanvas(QWidget):
         if self._held is not None:
             self._paint_note(painter, self._held)
         elif self.lit:
-            self._paint_note(painter, "Lit" if self.overlay is not None else "Rendering…")
+            if self.overlay is None:
+                self._paint_note(painter, "Rendering…")
+            else:
+                self._paint_note(painter, "Lit — refining…" if self.refining else "Lit")
 
     def _draw_texture(self, painter: QPainter, target: QRectF, visible: Rect) -> None:
         """Draw texels ``visible`` onto ``target``: crisp squares when magnified, filtered when not.
