@@ -27,7 +27,8 @@ pytest.importorskip("PySide6")
 pytest.importorskip("pytestqt")
 
 
-from PySide6.QtCore import QTimer  # noqa: E402
+from PySide6.QtCore import Qt, QTimer  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QFrame  # noqa: E402
 
 from matshop.app.testing import Heartbeat, shown_window  # noqa: E402
@@ -116,3 +117,30 @@ def test_opening_exporting_saving_and_reopening_a_2k_set_never_stalls(window, tm
     assert reopened
     check("reopen project", wall, cpu)
     print("\n".join(report) + f"\nsave {save_s:.2f} s, reopen {reopen_s:.2f} s")
+
+
+def test_cancel_while_a_2k_set_opens_keeps_the_document_that_was_open(window) -> None:
+    """The progress panel's Cancel (clicked by a timer while the worker reads the set; the
+    window's other input is held meanwhile, the button's is not):
+    open_path returns False, the sample that was open stays, nothing else changed."""
+    sample = ROOT / "resources" / "sample"
+    assert window.open_path(sample)
+    doc = window.session.doc
+    layers = len(doc.layers)
+    pressed = []
+
+    def press() -> None:
+        panels = [p for p in window.findChildren(QFrame, "progressPanel") if p.isVisible()]
+        if panels and panels[0].cancel is not None:
+            # held: a new layer now would change the document the user sees
+            new_layer = Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier
+            QTest.keyClick(window.canvas, Qt.Key.Key_N, new_layer)
+            QTest.mouseClick(panels[0].cancel, Qt.MouseButton.LeftButton)  # a real click
+            pressed.append(True)
+        else:
+            QTimer.singleShot(50, press)  # not shown yet: look again
+
+    QTimer.singleShot(SHOW_AFTER_MS + 50, press)
+    assert not window.open_path(CHESSBOARD)
+    assert pressed and window.session.doc is doc and len(doc.layers) == layers
+    assert "Did not open" in window.statusBar().currentMessage()

@@ -31,7 +31,7 @@ from ..layers import Document
 from .prompts import Prompts
 from .session import DocumentSession
 from .settings import AppSettings
-from .work import Work, run_off_ui
+from .work import Cancelled, Work, run_off_ui
 
 PROJECT_SUFFIX = ".matshop"
 
@@ -79,7 +79,7 @@ class FileController(QObject):
         path = Path(path)
         try:
             doc, project_path, state, restored = self._load(path, review)
-        except _Declined:
+        except (_Declined, Cancelled):
             self.message.emit(f"Did not open {path.name}")
             return False
         except (MatshopError, OSError) as exc:
@@ -134,9 +134,10 @@ class FileController(QObject):
 
         def read(work: Work) -> Document:
             material, _report = load_material(detected)
-            return Document.from_material(material)
+            work.checkpoint()
+            return Document.from_material(material.to_edit(progress=work.progress))
 
-        return self._off_ui(f"Opening {path.name}…", read), None, {}, False
+        return self._off_ui(f"Opening {path.name}…", read, cancellable=True), None, {}, False
 
     def _off_ui(self, label: str, fn: Callable[[Work], Any], cancellable: bool = False) -> Any:
         """``fn`` on a worker while the window stays live (see :mod:`.work`)."""
@@ -276,10 +277,15 @@ class FileController(QObject):
         snapshot = self.session.doc.snapshot()
         try:
             material = self._off_ui(
-                "Flattening the layers for export…", lambda _: snapshot.flatten_physical()
+                "Flattening the layers for export…",
+                lambda _: snapshot.flatten_physical(),
+                cancellable=True,
             )
             chosen = load_preset(preset)
             plan = plan_export(material, chosen, folder)
+        except Cancelled:
+            self.message.emit("Export cancelled")
+            return
         except MatshopError as exc:
             self.prompts.error("Cannot export", str(exc))
             return

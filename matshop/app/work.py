@@ -61,6 +61,11 @@ class Work:
         self._relay = _Relay()
         self._last = 0.0
 
+    def checkpoint(self) -> None:
+        """Stop here if the user pressed Cancel (between steps that report no progress)."""
+        if self.cancelled.is_set():
+            raise Cancelled
+
     def progress(self, done: int, total: int) -> None:
         """The engine's ``ProgressCallback``: called on the worker thread."""
         if self.cancelled.is_set():
@@ -132,6 +137,9 @@ class _HoldInput(QObject):
         self.allowed = allowed
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt override
+        if event.type() == QEvent.Type.Shortcut:  # delivered to the QAction, not a widget
+            event.ignore()
+            return True
         if event.type() not in self._INPUT or not isinstance(watched, QWidget):
             return False
         if self.allowed is not None and watched is self.allowed:
@@ -194,4 +202,6 @@ def run_off_ui(
             panel.deleteLater()
     if work.error is not None:
         raise work.error
+    if work.cancelled.is_set():  # finished a step that could not stop: drop its result
+        raise Cancelled
     return work.result
