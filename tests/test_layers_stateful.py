@@ -71,8 +71,9 @@ def _dab(seed: int, rect: Rect, blob: bool) -> tuple[np.ndarray, np.ndarray]:
     return values, alpha.astype(np.float32)
 
 
-def execute(doc: Document, history: History, command: tuple) -> bool:
-    """Apply one command as one edit; returns whether history merged it into the last step."""
+def execute(doc: Document, history: History, command: tuple) -> bool | None:
+    """Apply one command as one edit; returns whether history merged it into the last step
+    (None: nothing was pushed, a stroke that changed no texel)."""
     kind, *args = command
     if kind == "add":
         index, name, layer_kind, payload, props = args
@@ -135,7 +136,8 @@ def execute(doc: Document, history: History, command: tuple) -> bool:
         )
         session.add([StrokeSample(x, y, p) for x, y, p in points])
         edit = session.end()
-        return False if edit is None else history.push(edit, applied=True)
+        # a stroke that changed no texel (an eraser over nothing) is no step at all
+        return None if edit is None else history.push(edit, applied=True)
     raise AssertionError(kind)
 
 
@@ -196,6 +198,8 @@ class DocumentMachine(RuleBasedStateMachine):
 
     def _run(self, command: tuple) -> None:
         merged = execute(self.doc, self.history, command)
+        if merged is None:  # nothing pushed: the history and its redo stack are as they were
+            return
         if merged:
             self.steps[-1].append(command)
         else:
