@@ -288,9 +288,7 @@ class TextureCanvas(QWidget):
     def _mip_image(self, level: int) -> QImage:
         """A QImage over mip ``level`` (brought up to date), made once per level and document.
 
-        Levels are updated in place, so the image wrapping one stays valid; making
-        a buffer-wrapping QImage per paint is avoided (PySide6 mishandles the
-        references of many short-lived ones: a crash in ``none_dealloc``).
+        Levels are updated in place, so the image wrapping one stays valid.
         """
         assert self.cache is not None
         pixels = self.cache.mips.level(level)
