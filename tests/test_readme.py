@@ -62,6 +62,7 @@ def test_readme_headless_recipe_runs_as_written(tmp_path: Path) -> None:
     """Every command of the recipe exits 0; the stroke paints what its swatch sets, AO stays."""
     import os
     import shlex
+    import shutil
     import subprocess
     import sys
 
@@ -72,9 +73,8 @@ def test_readme_headless_recipe_runs_as_written(tmp_path: Path) -> None:
     ramp = np.repeat(np.linspace(0, 1, 512, dtype=np.float32)[None, :, None], 512, axis=0)
     write_image(tmp_path / "gradient.png", ramp)
     (tmp_path / "strokes.json").write_text(strokes)
-    # the recipe as written, then the same project without the painted layer
-    extra = ["matshop layer remove rusty.matshop Scratches", "matshop flatten rusty.matshop bare/"]
-    for line in lines + extra:
+
+    def matshop(line: str) -> None:
         argv = shlex.split(line)
         assert argv[0] == "matshop"
         run = subprocess.run(
@@ -85,12 +85,27 @@ def test_readme_headless_recipe_runs_as_written(tmp_path: Path) -> None:
             env={**os.environ, "PYTHONPATH": str(ROOT)},
         )
         assert run.returncode == 0, f"{line}\n{run.stdout}\n{run.stderr}"
+
+    for line in lines:  # the recipe as written
+        matshop(line)
+    shutil.copy(tmp_path / "rusty.matshop", tmp_path / "painted.matshop")
+    # the same project without the painted layer
+    matshop("matshop layer remove rusty.matshop Scratches")
+    matshop("matshop flatten rusty.matshop bare/")
     painted, bare = tmp_path / "out", tmp_path / "bare"
     # the swatch sets no AO: the stroke left it exactly as the layers below make it
     ao = _codes(next(painted.glob("*_ao.png")))
     assert np.array_equal(ao, _codes(next(bare.glob("*_ao.png"))))
-    # on the stroke's centre line (hardness 0.7, full opacity) the bronze base color shows
     base = _codes(next(painted.glob("*_basecolor.png")))
-    bronze = np.round(255 * np.array([0.45, 0.25, 0.08]))
-    np.testing.assert_allclose(base[125, 175, :3], bronze, atol=1)
     assert not np.array_equal(base, _codes(next(bare.glob("*_basecolor.png"))))
+    # the painted layer itself: on the stroke's centre line (hardness 0.7, full opacity) the
+    # stroke file's bronze shows once the layers the recipe puts above it are hidden
+    from matshop.io.project import load_project
+
+    doc = load_project(tmp_path / "painted.matshop").document
+    names = [layer.name for layer in doc.layers]
+    for layer in doc.layers[names.index("Scratches") + 1 :]:
+        doc.set_property(layer.id, "visible", False)
+    shown = np.round(255 * doc.physical()["base_color"][125, 175])
+    bronze = np.round(255 * np.array([0.45, 0.25, 0.08]))
+    np.testing.assert_allclose(shown, bronze, atol=1)
