@@ -36,8 +36,21 @@ def test_readme_python_example_runs(number: int, tmp_path: Path, monkeypatch) ->
     before = set(tmp_path.rglob("*"))
     exec(compile(python_blocks()[number], f"README.md python block {number + 1}", "exec"), {})
     written = {p for p in set(tmp_path.rglob("*")) - before if p.is_file()}
-    # every example ends by saving something: a texture set or a project
-    assert any(p.suffix in (".png", ".exr", ".matshop") for p in written), written
+    # every example ends by saving something, and what it saves opens again: a project
+    # whose size is the sample's, or a texture set whose untouched maps are the sample's
+    projects = [p for p in written if p.suffix == ".matshop"]
+    maps = [p for p in written if p.suffix in (".png", ".exr")]
+    assert projects or maps, written
+    from matshop.io.material_io import load_material
+    from matshop.io.project import load_project
+
+    for project in projects:
+        assert load_project(project).document.size == (512, 512)
+    if maps:
+        saved, _ = load_material(maps[0].parent)
+        source, _ = load_material(SAMPLE)
+        assert saved.size == source.size
+        assert np.abs(saved.maps["metallic"] - source.maps["metallic"]).max() <= 0.5 / 255
 
 
 def _headless_recipe() -> tuple[list[str], str]:
