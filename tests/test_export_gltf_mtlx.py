@@ -298,6 +298,14 @@ def test_cli_export_writes_and_summarises(tmp_path: Path, capsys: pytest.Capture
     assert main([*args, "--force"]) == 0
 
 
+def test_cli_offers_every_shading_model() -> None:
+    from matshop.export.mtlx import DEFAULT_SHADING_MODEL, SHADING_MODELS
+    from matshop.export.verbs import SHADING_MODEL_NAMES
+
+    assert set(SHADING_MODEL_NAMES) == set(SHADING_MODELS)
+    assert SHADING_MODEL_NAMES[0] == DEFAULT_SHADING_MODEL
+
+
 def test_info_reads_a_mtlx_and_refuses_what_it_cannot(
     tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:

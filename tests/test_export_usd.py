@@ -297,6 +297,8 @@ def test_cli_writes_usd(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
 
 def test_a_usd_missing_its_texture_is_refused_in_one_line(small: Material, tmp_path: Path) -> None:
     summary = export_material(small, "gltf", tmp_path, usd=True)
+    with pytest.raises(MatshopError, match="larger than|pixels"):
+        load_material(summary.file(".usda"), max_pixels=16)  # the limit reaches the textures
     summary.file("_normal.png").unlink()
     with pytest.raises(MatshopError, match="tiles_normal.png is missing"):
         load_material(summary.file(".usda"))

@@ -11,6 +11,8 @@ import argparse
 from pathlib import Path
 
 VERB_MODULE = "matshop.export.verbs"
+#: the choices of --mtlx-shader (mtlx.SHADING_MODELS' names; kept here so --help stays light)
+SHADING_MODEL_NAMES = ("open_pbr_surface", "standard_surface", "gltf_pbr")
 
 _DESCRIPTION = """\
 Load the texture set IN (a folder or one of its maps) and write what an engine
@@ -70,8 +72,8 @@ def add_parsers(verbs: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--mtlx-shader",
-        choices=("open_pbr_surface", "standard_surface", "gltf_pbr"),
-        default="open_pbr_surface",
+        choices=SHADING_MODEL_NAMES,
+        default=SHADING_MODEL_NAMES[0],
         help="the MaterialX surface shader of --mtlx and of the USD's mtlx context "
         "(default: open_pbr_surface, OpenPBR Surface)",
     )

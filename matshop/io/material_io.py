@@ -147,7 +147,7 @@ def load_material(
     if isinstance(path, TextureSet):
         ts = path
     elif is_usd(path) or Path(path).suffix.lower() == MTLX_SUFFIX:
-        return _load_document(Path(path), spaces)
+        return _load_document(Path(path), spaces, max_pixels)
     else:
         ts = resolve_texture_set(path, material=material, maps=maps)
     check_texture_set(ts)
@@ -218,14 +218,16 @@ def load_material(
     return Material(ts.name, schema, maps, sources), report
 
 
-def _load_document(path: Path, spaces: dict[str, str] | None) -> tuple[Material, LoadReport]:
+def _load_document(
+    path: Path, spaces: dict[str, str] | None, max_pixels: int | None
+) -> tuple[Material, LoadReport]:
     """The material a USD file's UsdPreviewSurface (:mod:`.usd_material`) or a MaterialX
     document's surface shader (:mod:`.mtlx_material`) reads."""
     if is_usd(path):
-        material = read_usd_material(path, spaces=spaces)
+        material = read_usd_material(path, spaces=spaces, max_pixels=max_pixels)
         note = f"read from {path.name}'s UsdPreviewSurface"
     else:
-        material = read_mtlx_material(path, spaces=spaces)
+        material = read_mtlx_material(path, spaces=spaces, max_pixels=max_pixels)
         note = f"read from {path.name}'s MaterialX graph"
     files = {name: Path(source["file"]) for name, source in material.sources.items()}
     ts = TextureSet(material.name, path.parent, files)

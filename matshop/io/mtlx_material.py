@@ -63,9 +63,10 @@ _COLORS = frozenset({"base_color", "emissive"})
 class _Evaluator:
     """Evaluates the supported nodes over whole images, reading each file once."""
 
-    def __init__(self, folder: Path, path: Path) -> None:
+    def __init__(self, folder: Path, path: Path, limits: dict) -> None:
         self.folder = folder
         self.path = path
+        self.limits = limits
         self.images: dict[str, tuple[np.ndarray, str]] = {}
         self.flipped_green = False
         self.srgb = False  #: the last image evaluated was sRGB-coded
@@ -114,7 +115,7 @@ class _Evaluator:
         if name not in self.images:
             if not file.is_file():
                 raise MatshopError(f"texture {name} is missing", self.path)
-            pixels, info = read_image(file)
+            pixels, info = read_image(file, **self.limits)
             self.images[name] = (pixels, info.bit_depth)
         pixels, _ = self.images[name]
         width = {"float": 1, "color3": 3, "vector3": 3, "color4": 4}[node.getType()]
@@ -126,9 +127,13 @@ class _Evaluator:
 
 
 def read_mtlx_material(
-    path: str | os.PathLike, *, spaces: dict[str, str] | None = None
+    path: str | os.PathLike,
+    *,
+    spaces: dict[str, str] | None = None,
+    max_pixels: int | None = None,
 ) -> Material:
-    """The material of the MaterialX document at ``path`` (``sources`` names the files)."""
+    """The material of the MaterialX document at ``path`` (``sources`` names the files);
+    ``spaces`` and ``max_pixels`` as in ``load_material``."""
     import MaterialX as mx
 
     path = Path(path)
@@ -144,7 +149,8 @@ def read_mtlx_material(
         known = ", ".join(_MODELS)
         raise MatshopError(f"no material with a {known} surface shader", path)
     shader = shaders[0]
-    evaluator = _Evaluator(path.parent, path)
+    limits = {} if max_pixels is None else {"max_pixels": max_pixels}
+    evaluator = _Evaluator(path.parent, path, limits)
     maps: dict[str, np.ndarray] = {}
     sources: dict[str, dict] = {}
     for input_name, param in _MODELS[shader.getCategory()].items():

@@ -65,7 +65,7 @@ def _bound_material(stage: Usd.Stage, path: Path) -> UsdShade.Material:
     raise MatshopError("no Material in this USD file", path)
 
 
-def _texels(asset: Sdf.AssetPath, path: Path) -> tuple[np.ndarray, str]:
+def _texels(asset: Sdf.AssetPath, path: Path, limits: dict) -> tuple[np.ndarray, str]:
     """The pixels of a texture (a file, or a file inside a package) and its bit depth."""
     from pxr import Ar
 
@@ -73,7 +73,7 @@ def _texels(asset: Sdf.AssetPath, path: Path) -> tuple[np.ndarray, str]:
     if not resolved:
         raise MatshopError(f"texture {asset.path} is missing", path)
     if os.path.isfile(resolved):
-        pixels, info = read_image(resolved)
+        pixels, info = read_image(resolved, **limits)
         return pixels, info.bit_depth
     asset = Ar.GetResolver().OpenAsset(Ar.ResolvedPath(resolved))
     if asset is None:
@@ -82,13 +82,18 @@ def _texels(asset: Sdf.AssetPath, path: Path) -> tuple[np.ndarray, str]:
     with tempfile.TemporaryDirectory(prefix="matshop-usd-") as scratch:
         copy = Path(scratch) / f"texture{suffix}"
         copy.write_bytes(bytes(asset.GetBuffer()))
-        pixels, info = read_image(copy)
+        pixels, info = read_image(copy, **limits)
     return pixels, info.bit_depth
 
 
-def read_usd_material(path: str | os.PathLike, *, spaces: dict[str, str] | None = None) -> Material:
+def read_usd_material(
+    path: str | os.PathLike,
+    *,
+    spaces: dict[str, str] | None = None,
+    max_pixels: int | None = None,
+) -> Material:
     """The material of the USD file at ``path`` (``sources`` says where each parameter
-    came from); ``spaces`` overrides editing spaces as in ``load_material``.
+    came from); ``spaces`` and ``max_pixels`` as in ``load_material``.
 
     Raises :class:`MatshopError` (one line, naming the file) when the file has no
     UsdPreviewSurface material reading textures.
@@ -105,6 +110,7 @@ def read_usd_material(path: str | os.PathLike, *, spaces: dict[str, str] | None 
         raise MatshopError(f"{material.GetPath()} has no UsdPreviewSurface", path)
     maps: dict[str, np.ndarray] = {}
     sources: dict[str, dict] = {}
+    limits = {} if max_pixels is None else {"max_pixels": max_pixels}
     for name, param in _INPUTS.items():
         port = surface.GetInput(name)
         if not port or not port.HasConnectedSource():
@@ -114,7 +120,7 @@ def read_usd_material(path: str | os.PathLike, *, spaces: dict[str, str] | None 
         if texture.GetIdAttr().Get() != "UsdUVTexture" or output not in _CHANNELS:
             raise MatshopError(f"{name} is not read from a UsdUVTexture", path)
         asset = texture.GetInput("file").Get()
-        pixels, depth = _texels(asset, path)
+        pixels, depth = _texels(asset, path, limits)
         picks = _CHANNELS[output]
         packed = pixels.shape[2] > 1 and len(picks) == 1
         if pixels.shape[2] == 1:  # one channel: every output reads it
