@@ -70,7 +70,8 @@ def test_adding_a_bilateral_layer_returns_at_once_and_matches_the_engine(window,
     layer_id = window.layer_commands.add_filter_layer("bilateral", {"sigma_px": 6.0})
     QApplication.processEvents()  # the canvas' refresh turn: it must not compute
     returned_cpu_s = time.thread_time() - start
-    assert layer_id is not None and returned_cpu_s < 0.1
+    # the budget is the product's: no action may hold the event loop over 250 ms
+    assert layer_id is not None and returned_cpu_s < 0.25
     assert background.pending and window.canvas.held
     assert window.values_label.text() in ("", "computing…")
     qtbot.waitUntil(lambda: background.ready, timeout=30000)
