@@ -8,7 +8,6 @@ and scipy's Slerp; closed-form normals of analytic height fields.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,10 +29,6 @@ from matshop.spaces.frame import (
     quat_from_matrix,
     quat_log,
     quat_rotate,
-)
-
-CHESSBOARD_NORMAL = (
-    Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard" / "chessboard_normal.jpg"
 )
 
 NORMAL = NormalFrameSpace()
@@ -469,67 +464,3 @@ def test_height_to_normal_periodic_closed_form_and_shapes():
     nb = height_to_normal(batch, strength=0.5)
     assert nb.shape == (2, rows, cols, 3)
     np.testing.assert_allclose(nb[1], height_to_normal(h, strength=1.0), atol=1e-7)
-
-
-# ---------------------------------------------------------------------------
-# convention guess
-
-
-def analytic_bumps(size: int, seed: int) -> np.ndarray:
-    """OpenGL normals of a sum of Gaussian bumps, from the closed-form gradient."""
-    rng = np.random.default_rng(seed)
-    r, c = np.mgrid[0:size, 0:size].astype(np.float64)
-    u, v = c, -r  # v is up
-    dh_du = np.zeros_like(u)
-    dh_dv = np.zeros_like(u)
-    for _ in range(25):
-        cu, cv = rng.uniform(0, size), -rng.uniform(0, size)
-        sigma, amp = rng.uniform(2.0, 10.0), rng.uniform(-4.0, 4.0)
-        g = amp * np.exp(-((u - cu) ** 2 + (v - cv) ** 2) / (2 * sigma**2))
-        dh_du += -g * (u - cu) / sigma**2
-        dh_dv += -g * (v - cv) / sigma**2
-    n = np.stack([-dh_du, -dh_dv, np.ones_like(u)], -1)
-    return n / np.linalg.norm(n, axis=-1, keepdims=True)
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-@pytest.mark.parametrize("convention", ["opengl", "directx"])
-def test_guess_convention_on_synthetic_bumps(seed, convention):
-    rng = np.random.default_rng(100 + seed)
-    # independent closed-form normals, and normals from height_to_normal of the same idea
-    for n in (
-        analytic_bumps(96, seed),
-        height_to_normal(rng.normal(size=(96, 96)).cumsum(0).cumsum(1) * 0.05),
-    ):
-        rgb = encode_normal_map(n, convention=convention)
-        noisy = rgb + rng.uniform(-2 / 255, 2 / 255, size=rgb.shape)  # like JPEG/8-bit noise
-        codes = np.round(np.clip(noisy, 0, 1) * 255).astype(np.uint8)
-        guess, confidence = guess_normal_convention(codes)
-        assert guess == convention
-        assert confidence > 0.3
-
-
-def test_guess_convention_cannot_tell_separable_heights():
-    r, c = np.mgrid[0:64, 0:64]
-    h = 3 * np.sin(c / 3.0) + 2 * np.cos(r / 5.0)  # f(u) + g(v): zero mixed derivative
-    codes = np.round(encode_normal_map(height_to_normal(h)) * 255).astype(np.uint8)
-    _, confidence = guess_normal_convention(codes)
-    assert confidence < 0.05
-    assert guess_normal_convention(np.full((8, 8, 3), 0.5)) == ("opengl", 0.0)
-
-
-def test_guess_convention_on_chessboard_normal_map():
-    """MaterialX's chess_set/chessboard_normal.jpg comes from the glTF sample asset
-    "ABeautifulGame"; glTF normal textures are OpenGL (+Y) by specification."""
-    if not CHESSBOARD_NORMAL.exists():
-        pytest.skip(f"{CHESSBOARD_NORMAL} not present")
-    oiio = pytest.importorskip("OpenImageIO")
-    rgb = oiio.ImageBuf(str(CHESSBOARD_NORMAL)).get_pixels(oiio.FLOAT)[..., :3]
-    guess, confidence = guess_normal_convention(rgb)
-    flipped = rgb.copy()
-    flipped[..., 1] = 1.0 - flipped[..., 1]
-    guess_flipped, confidence_flipped = guess_normal_convention(flipped)
-    print(f"\nchessboard_normal.jpg: guessed {guess} (confidence {confidence:.3f})")
-    assert guess == "opengl"
-    assert guess_flipped == "directx"
-    assert confidence == pytest.approx(confidence_flipped, abs=1e-6)

@@ -41,6 +41,9 @@ import numpy as np
 
 from ._kernels import FRAME_FROM_EDIT, FRAME_TO_EDIT, NORMAL_FROM_EDIT, NORMAL_TO_EDIT, frames
 from .base import EditRange, FusedSpace, Space, as_channels
+from .normal_convention import CONFIDENT_GUESS, guess_normal_convention
+
+__all__ = ["CONFIDENT_GUESS", "guess_normal_convention"]  # re-exported; the rest is public by name
 
 Convention = Literal["opengl", "directx"]
 _CONVENTIONS = ("opengl", "directx")
@@ -360,77 +363,6 @@ def height_to_normal(height: np.ndarray, *, strength: float = 1.0, wrap: bool = 
         dh_dv = -np.gradient(h, axis=-2).astype(np.float32, copy=False)
     n = np.stack([-k * dh_du, -k * dh_dv, np.ones_like(h)], axis=-1)
     return _normalize_or_z(n)
-
-
-def _curl_energies(p: np.ndarray, q: np.ndarray) -> tuple[float, float]:
-    """Squared loop integrals of a gradient field ``(p, q)`` under both conventions.
-
-    ``p = dh/du``, ``q = dh/dv`` as read in the OpenGL convention (``v`` up).
-    Around each 2x2 texel loop the discrete curl (trapezoid rule) splits into
-    the ``q`` part ``a`` (``dq/du``) and the ``p`` part ``b`` (``dp/dv``): the
-    OpenGL hypothesis has curl ``a - b``, the DirectX one (``q`` negated)
-    ``-a - b``. Returns ``(sum (a - b)^2, sum (a + b)^2)``.
-    """
-    # loop through texel centres (i, j) (i, j+1) (i+1, j+1) (i+1, j); rows go down, v up
-    a = 0.5 * ((q[:-1, 1:] + q[1:, 1:]) - (q[:-1, :-1] + q[1:, :-1]))
-    b = 0.5 * ((p[:-1, :-1] + p[:-1, 1:]) - (p[1:, :-1] + p[1:, 1:]))
-    return float(np.sum((a - b) ** 2)), float(np.sum((a + b) ** 2))
-
-
-def _box_down(x: np.ndarray) -> np.ndarray:
-    rows, cols = (x.shape[0] // 2) * 2, (x.shape[1] // 2) * 2
-    return x[:rows, :cols].reshape(rows // 2, 2, cols // 2, 2).mean(axis=(1, 3))
-
-
-#: pyramid levels of the convention guess stop when either side drops below this
-_GUESS_MIN_SIZE = 16
-_GUESS_MAX_LEVELS = 6
-#: guesses at or above this confidence are acted on; below it a loader keeps
-#: its default (placeholder until calibrated on a corpus with known answers)
-CONFIDENT_GUESS = 0.5
-
-
-def guess_normal_convention(rgb: np.ndarray) -> tuple[Convention, float]:
-    """Guess whether a tangent-space normal map is OpenGL (+Y) or DirectX (-Y).
-
-    A normal map baked from a surface is the gradient of a height field, so it
-    is curl-free: the loop integral of ``grad h = (-n_x/n_z, -n_y/n_z)`` around
-    every 2x2 texel square vanishes. Reading the green channel with the wrong
-    sign negates ``dh/dv``, which leaves a curl of ``-2 d2h/du dv``. For each
-    hypothesis the total squared curl ``E`` is measured, and the signed score
-    ``(E_directx - E_opengl) / (E_directx + E_opengl)`` (in [-1, 1]; equal to
-    ``2 sum(ab) / sum(a^2 + b^2)`` for the two halves of the curl) is averaged
-    over a small pyramid in which the gradient field is 2x2 box-averaged per
-    level (an average of gradients is the gradient of the averaged height, so
-    the right hypothesis stays curl-free while compression noise, which adds
-    the same energy to both hypotheses, averages out).
-
-    Returns the convention with the lower curl and ``confidence = |score|`` in
-    [0, 1]. Around 0 the map cannot tell (flat maps, or heights of the form
-    ``f(u) + g(v)`` such as axis-aligned grooves, whose mixed derivative
-    vanishes); ties return ``"opengl"``. ``rgb`` is one image ``(H, W, 3)``,
-    float in [0, 1] or integer. Grazing texels (``n_z < 0.05``) are clamped to
-    slope 20.
-    """
-    arr = np.asarray(rgb)
-    if arr.ndim != 3 or arr.shape[-1] != 3:
-        raise ValueError(f"guess_normal_convention: expected an (H, W, 3) image, got {arr.shape}")
-    if arr.shape[0] < 2 or arr.shape[1] < 2:
-        return "opengl", 0.0  # no 2x2 square, no curl: a tie
-    n = decode_normal_map(arr, convention="opengl").astype(np.float64)
-    nz = np.maximum(n[..., 2], 0.05)
-    p = -n[..., 0] / nz
-    q = -n[..., 1] / nz
-    scores = []
-    for _ in range(_GUESS_MAX_LEVELS):
-        e_gl, e_dx = _curl_energies(p, q)
-        if e_gl + e_dx > 0.0:
-            scores.append((e_dx - e_gl) / (e_dx + e_gl))
-        if min(p.shape) < 2 * _GUESS_MIN_SIZE:
-            break
-        p, q = _box_down(p), _box_down(q)
-    score = float(np.mean(scores)) if scores else 0.0
-    return ("opengl" if score >= 0.0 else "directx"), abs(score)
 
 
 SPACES: dict[str, Space] = {
