@@ -15,6 +15,7 @@ guesses, and prints:
   with its green channel flipped.
 
     python benchmarks/normal_convention.py [--quick] [--corpus DIR] [--real DIR]
+                                           [--seed-offset N]
 
 The full corpus takes ~20 minutes to write on two cores; ``--corpus DIR``
 keeps it and reuses the files already there. Exit status 1 when a confident
@@ -119,9 +120,12 @@ def main() -> int:
     parser.add_argument(
         "--real", type=Path, action="append", default=[], help="folder of real maps"
     )
+    parser.add_argument(
+        "--seed-offset", type=int, default=0, help="a fresh corpus of the same make-up"
+    )
     parser.add_argument("--real-convention", default="opengl", choices=("opengl", "directx"))
     args = parser.parse_args()
-    specs = ci_specs() if args.quick else full_specs()
+    specs = ci_specs() if args.quick else full_specs(args.seed_offset)
     with tempfile.TemporaryDirectory() as tmp:
         folder = args.corpus or Path(tmp)
         folder.mkdir(parents=True, exist_ok=True)
