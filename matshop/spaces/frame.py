@@ -35,17 +35,16 @@ Height maps
 
 from __future__ import annotations
 
-from typing import Literal
-
 import numpy as np
 
 from ._kernels import FRAME_FROM_EDIT, FRAME_TO_EDIT, NORMAL_FROM_EDIT, NORMAL_TO_EDIT, frames
 from .base import EditRange, FusedSpace, Space, as_channels
-from .normal_convention import CONFIDENT_GUESS, guess_normal_convention
 
-__all__ = ["CONFIDENT_GUESS", "guess_normal_convention"]  # re-exported; the rest is public by name
+# the convention guess lives in its own module; re-exported here, where the loader imports it
+from .normal_convention import CONFIDENT_GUESS as CONFIDENT_GUESS
+from .normal_convention import Convention
+from .normal_convention import guess_normal_convention as guess_normal_convention
 
-Convention = Literal["opengl", "directx"]
 _CONVENTIONS = ("opengl", "directx")
 
 #: vectors shorter than this are treated as zero length (decode: flat normal)
