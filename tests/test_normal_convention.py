@@ -113,9 +113,12 @@ def test_flipping_a_channel_flips_the_answer_with_the_same_confidence():
         other, confidence_flipped = guess_normal_convention(flipped)
         assert {guess, other} == {"opengl", "directx"}
         assert confidence_flipped == pytest.approx(confidence, abs=1e-9)
-    # integer codes and the same values as floats give the same answer
-    as_float = guess_normal_convention(codes.astype(np.float32) / np.float32(255))
-    assert as_float[0] == guess and as_float[1] == pytest.approx(confidence, abs=1e-6)
+    # integer codes, the same values as floats, and the RGB view of an RGBA read agree
+    as_float = codes.astype(np.float32) / np.float32(255)
+    rgba = np.concatenate([as_float, np.ones_like(as_float[..., :1])], axis=-1)
+    for other_input in (as_float, rgba[..., :3]):
+        other, other_confidence = guess_normal_convention(other_input)
+        assert other == guess and other_confidence == pytest.approx(confidence, abs=1e-6)
 
 
 def test_flat_and_tiny_maps_cannot_tell():
