@@ -17,10 +17,12 @@ corpus, ``benchmarks/normal_convention.py``; notes in H-convention.md):
   ``sigma`` (8-bit steps, JPEG noise). A seam therefore cannot outvote the
   interior, which a sum of squared curls lets it do.
 * Per tile of ``_TILE x _TILE`` loops the evidence is summed, and a level's
-  statistic is the self-normalised sum ``t = sum S / sqrt(sum S^2)``. For
-  tiles whose evidence is symmetric about zero (a map that cannot tell)
-  ``t`` has sub-Gaussian tails whatever the tiles' magnitudes (Hoeffding), so
-  it measures *consistency* across the map, not the strength of a few tiles.
+  statistic is the self-normalised sum ``t = sum S / sqrt(sum S^2 + n c^2)``
+  over its ``n`` tiles. For tiles whose evidence is symmetric about zero (a
+  map that cannot tell) ``t`` has sub-Gaussian tails whatever the tiles'
+  magnitudes (Hoeffding), so it measures *consistency* across the map, not
+  the strength of a few tiles; the floor ``c`` (:data:`_TILE_FLOOR`) keeps
+  tiles with next to no evidence from counting as consistent.
 * Levels: the full resolution and one 2x2 box-averaged level (the average
   of gradients is the gradient of the averaged height, so the right
   hypothesis stays curl-free while noise averages out), combined as
@@ -52,6 +54,10 @@ Convention = Literal["opengl", "directx"]
 _TILE = 16
 #: noise floor of the per-loop evidence, in slope units (about 2 steps of an 8-bit map)
 _SIGMA = 0.016
+#: evidence floor of a tile, in loops of full agreement: tiles below it count as
+#: noise however consistent their sign (the second-order traces of supersampled
+#: bakes of f(u) + g(v) grooves, which 16-bit files keep, reached |t| = 8 without it)
+_TILE_FLOOR = 4.0
 #: levels of the box pyramid (full resolution first); a level needs 2 x 2 tiles
 _LEVELS = 2
 #: n_z clamp for grazing texels (slopes stay below ~20)
@@ -156,8 +162,8 @@ def guess_normal_convention(rgb: np.ndarray) -> tuple[Convention, float]:
         if (min(p.shape) - 1) // tile < 2:
             break
         evidence = _tile_evidence(p, q, tile, _SIGMA * _SIGMA)
-        norm = math.sqrt(float(np.sum(evidence * evidence)))
-        t_levels.append(float(np.sum(evidence)) / norm if norm > 0.0 else 0.0)
+        norm = math.sqrt(float(np.sum(evidence * evidence)) + evidence.size * _TILE_FLOOR**2)
+        t_levels.append(float(np.sum(evidence)) / norm)
         p, q = _box_down(p), _box_down(q)
     t = sum(t_levels) / math.sqrt(len(t_levels)) if t_levels else 0.0
     return ("opengl" if t >= 0.0 else "directx"), t * t / (t * t + _T_SCALE * _T_SCALE)
