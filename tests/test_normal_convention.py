@@ -123,6 +123,7 @@ def test_flipping_a_channel_flips_the_answer_with_the_same_confidence():
 
 def test_flat_and_tiny_maps_cannot_tell():
     assert guess_normal_convention(np.full((8, 8, 3), 0.5)) == ("opengl", 0.0)
+    assert guess_normal_convention(np.full((1, 1, 3), 0.7)) == ("opengl", 0.0)  # a 1x1 set
     assert guess_normal_convention(np.full((300, 200, 3), 128, np.uint8)) == ("opengl", 0.0)
     rng = np.random.default_rng(0)
     for shape in ((2, 2, 3), (3, 5, 3), (17, 40, 3)):
