@@ -50,7 +50,7 @@ def _luminance(path: Path) -> np.ndarray:
 def test_s_curve_raises_contrast_on_the_chessboard(tmp_path: Path) -> None:
     """The real path: files -> ``matshop apply --op curves`` -> files, measured from pixels.
 
-    Measured (2K chessboard): tilt spread x1.10, luminance spread x1.37; over the
+    Measured (2K chessboard): tilt spread x1.11, luminance spread x1.37; over the
     space's fixed range (remap=space, the old behaviour) x0.211 and x0.559.
     """
     out = tmp_path / "out"

@@ -23,8 +23,8 @@ it. Two choices (the ops' ``remap`` parameter):
 A group whose data range is (nearly) empty -- a flat normal map, a constant
 color -- falls back to the space's range, so a curve on it still does something
 predictable instead of dividing by zero. Percentiles come from at most
-:data:`MAX_SAMPLES` texels on a regular stride (a robust statistic needs no
-more, and a 4K map stays cheap).
+:data:`MAX_SAMPLES` texels drawn with a fixed seed (a robust statistic needs
+no more, and a 4K map stays cheap).
 """
 
 from __future__ import annotations
@@ -80,10 +80,20 @@ def _space_range(group: ChannelGroup) -> tuple[float, float]:
     return float(lo), float(span)
 
 
-def _strided(block: np.ndarray) -> np.ndarray:
+def _sample(block: np.ndarray) -> np.ndarray:
+    """At most :data:`MAX_SAMPLES` texels ``(n, 1, k)``, drawn with a fixed seed.
+
+    Random rather than strided: a regular stride aliases with axis-aligned
+    structure (a board's 1-2 texel bevels are all hit or all missed, which moved
+    the chessboard's 99.5th tilt percentile from 9.2 to 6.9 degrees); a fixed
+    seed keeps every run, tile and preview identical.
+    """
     height, width = block.shape[:2]
-    step = max(1, int(np.ceil(np.sqrt(height * width / MAX_SAMPLES))))
-    return block[::step, ::step]
+    if height * width <= MAX_SAMPLES:
+        return block
+    index = np.random.default_rng(0).integers(0, height * width, MAX_SAMPLES)
+    rows, cols = np.divmod(np.sort(index), width)
+    return block[rows, cols][:, None, :]
 
 
 def group_values(block: np.ndarray, group: ChannelGroup) -> np.ndarray:
@@ -110,8 +120,8 @@ def tone_ranges(
     """One :class:`ToneRange` per group of the selected ``block`` ``(H, W, k)``."""
     if remap not in REMAPS:
         raise ValueError(f"unknown remap {remap!r} (use {' or '.join(REMAPS)})")
-    # one contiguous copy of the strided texels: the per-group gathers stay cheap
-    sample = np.ascontiguousarray(_strided(block)) if remap == "data" else None
+    # one contiguous copy of the sampled texels: the per-group gathers stay cheap
+    sample = np.ascontiguousarray(_sample(block)) if remap == "data" else None
     out = []
     for group in groups:
         vector = group.curve_mode == "vector"
