@@ -182,31 +182,21 @@ def cmd_apply(args: argparse.Namespace) -> int:
     from .api import EditableMaterial
     from .cli import load_options
     from .ops import get_op
+    from .opchain import run_steps, step_from_words
 
     # parse every op before any work, so a typo in the last one costs nothing
-    steps = []
-    for name, *pairs in args.op:
-        spec = get_op(name)
-        values = spec.parse_args(pairs)
-        spec.bind({k: v for k, v in values.items() if k not in spec.all_inputs})
-        steps.append((name, values))
+    params = None if args.params is None else args.params.split(",")
+    steps = [step_from_words(words, params=params, mask=args.mask) for words in args.op]
     m = EditableMaterial.from_path(args.input, **load_options(args))
     print_convention(m.edit)
-    mask = None
-    if args.mask is not None:
-        from .api import load_mask
-
-        mask = load_mask(args.mask, m.size)
     with progress_bar("applying") as report:
-        for done, (name, values) in enumerate(steps, 1):
-            m.apply(name, params=args.params, mask=mask, **values)
-            report(done, len(steps))
+        run_steps(m, steps, progress=report)
     with progress_bar("writing") as report:
         written = m.save(args.output, overwrite=args.force, progress=report)
-    for name, bound, params in m.history:
+    for name, bound, names in m.history:
         spec = get_op(name)
         settings = " ".join(f"{k}={spec.param(k).format(v)}" for k, v in bound.items())
-        print(f"applied {name} {settings} to {', '.join(params)}")
+        print(f"applied {name} {settings} to {', '.join(names)}")
     for path in written:
         print(f"wrote {path}")
     return 0

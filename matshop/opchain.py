@@ -1,0 +1,68 @@
+"""An op chain: ops with their settings, checked up front, then run on one material.
+
+``matshop apply`` (words on the command line), ``matshop batch`` (a TOML
+recipe) and scripts build the same :class:`Step` list and run it through
+:func:`run_steps`, so one set edited either way gives byte-identical files.
+Validation is the op registry's own (``OpSpec.parse_args`` / ``bind``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .api import EditableMaterial, load_mask
+from .ops import get_op
+
+
+@dataclass(frozen=True)
+class Step:
+    """One op of a chain: its name, raw settings, parameter selection and mask file."""
+
+    op: str
+    #: typed settings as ``EditableMaterial.apply`` takes them (inputs as paths)
+    values: dict[str, Any]
+    #: parameter names or aliases (None: all of the material's)
+    params: tuple[str, ...] | None = None
+    #: a grayscale mask image blending the op's result (None: everywhere)
+    mask: Path | None = None
+
+
+def checked(op: str, values: dict[str, Any]) -> dict[str, Any]:
+    """``values`` after the registry validated every setting of ``op`` (raises OpError)."""
+    spec = get_op(op)
+    spec.bind({k: v for k, v in values.items() if k not in spec.all_inputs})
+    return values
+
+
+def step_from_words(
+    words: Sequence[str], *, params: Sequence[str] | None = None, mask: Path | None = None
+) -> Step:
+    """A step from the command line's words: ``["blur", "sigma_px=4"]``."""
+    name, *pairs = words
+    values = checked(name, get_op(name).parse_args(pairs))
+    return Step(name, values, None if params is None else tuple(params), mask)
+
+
+def run_steps(
+    material: EditableMaterial,
+    steps: Sequence[Step],
+    *,
+    mask_loader: Callable[[Path, tuple[int, int]], Any] = load_mask,
+    progress: Callable[[int, int], None] | None = None,
+) -> EditableMaterial:
+    """Apply ``steps`` in order to ``material`` (in place); each mask file is read once."""
+    masks: dict[Path, Any] = {}
+    for done, step in enumerate(steps, 1):
+        mask = None
+        if step.mask is not None:
+            if step.mask not in masks:
+                masks[step.mask] = mask_loader(step.mask, material.size)
+            mask = masks[step.mask]
+        params = None if step.params is None else list(step.params)
+        material.apply(step.op, params=params, mask=mask, **step.values)
+        if progress is not None:
+            progress(done, len(steps))
+    return material
