@@ -30,18 +30,34 @@ from .ops.spec import run_op
 PathLike = str | os.PathLike[str]
 
 
-def load_mask(path: PathLike, size: tuple[int, int]) -> np.ndarray:
-    """A grayscale mask image as (H, W) float32 in [0, 1], checked against ``size``."""
+def load_mask(path: PathLike, size: tuple[int, int], *, resample: bool = False) -> np.ndarray:
+    """A grayscale mask image as (H, W) float32 in [0, 1], checked against ``size``.
+
+    ``resample``: a mask of another size is resampled to ``size`` (area-averaged
+    down, bilinear up) instead of refused; a batch recipe's mask meets sets of
+    every size.
+    """
     pixels, info = read_image(path)
-    if pixels.shape[:2] != tuple(size):
+    if pixels.shape[:2] != tuple(size) and not resample:
         raise MatshopError(
             f"mask is {info.width}x{info.height}, the material is {size[1]}x{size[0]}", path
         )
     channels = pixels.shape[2]
     # gray, gray+alpha: the gray; RGB(A): Rec. 709 luminance of the color
     if channels >= 3:
-        return pixels[..., :3] @ np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
-    return np.ascontiguousarray(pixels[..., 0])
+        gray = pixels[..., :3] @ np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
+    else:
+        gray = np.ascontiguousarray(pixels[..., 0])
+    if gray.shape != tuple(size):
+        import cv2
+
+        shrinking = size[0] * size[1] < gray.size
+        gray = cv2.resize(
+            gray,
+            (size[1], size[0]),
+            interpolation=cv2.INTER_AREA if shrinking else cv2.INTER_LINEAR,
+        )
+    return gray
 
 
 class EditableMaterial:

@@ -44,6 +44,7 @@ _VERB_MODULES = (
     "matshop.export.verbs",
     "matshop.render.verbs",
     "matshop.project_verbs",
+    "matshop.batch.verbs",
     "matshop.app.verbs",
 )
 

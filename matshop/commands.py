@@ -181,8 +181,8 @@ def cmd_convert(args: argparse.Namespace) -> int:
 def cmd_apply(args: argparse.Namespace) -> int:
     from .api import EditableMaterial
     from .cli import load_options
-    from .ops import get_op
     from .opchain import run_steps, step_from_words
+    from .ops import get_op
 
     # parse every op before any work, so a typo in the last one costs nothing
     params = None if args.params is None else args.params.split(",")
