@@ -36,9 +36,8 @@ class SetJob:
 
     @property
     def label(self) -> str:
-        """How reports and ``--pattern`` name the set: ``folder/path[:material]``."""
-        where = "/".join(self.out_parts) or "."
-        return f"{where}:{self.material}" if self.material else where
+        """How reports and ``--pattern`` name the set: its output folder under OUT."""
+        return "/".join(self.out_parts) or "."
 
     @property
     def source(self) -> Path:

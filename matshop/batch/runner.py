@@ -82,7 +82,7 @@ def run_batch(
     out : output folder; each set's result goes to its mirrored sub-folder.
     workers : processes of the local cluster (default: the machine's cores).
     scheduler : address of a running Dask scheduler (``tcp://host:port``) instead.
-    pattern : glob over set labels (``folder/path[:material]``) to keep.
+    pattern : glob over the sets' output folders relative to ``out`` (``ambientcg/*``).
     resume : skip sets the report in ``out`` lists as ok with all their files present.
     force : replace existing output files.
     preset, size : an export preset / longest side over the recipe's ``[export]``.
@@ -108,10 +108,8 @@ def run_batch(
         raise MatshopError("output exists and is not a folder", out)
     jobs = find_sets(inputs, pattern, exclude=out)
     if not jobs:
-        where = ", ".join(str(i) for i in inputs)
-        raise MatshopError(
-            f"no texture sets found{' matching ' + pattern if pattern else ''}", where
-        )
+        matching = f" matching {pattern!r}" if pattern else ""
+        raise MatshopError(f"no texture sets found{matching}", ", ".join(map(str, inputs)))
     report = BatchReport(out / REPORT_NAME)
     done = _done_before(report.path) if resume else {}
     todo = [j for j in jobs if _key(j) not in done]
