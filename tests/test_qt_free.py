@@ -21,6 +21,7 @@ ENGINE_MODULES = [
     "matshop.paint",
     "matshop.render",
     "matshop.derive",
+    "matshop.batch",
     "matshop.cli",
     "matshop.commands",
 ]
