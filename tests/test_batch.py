@@ -293,3 +293,86 @@ def test_real_scheduler_and_workers_survive_a_killed_worker(library: Path, truth
     assert report.count("ok") == len(GOOD_SETS) and report.count("failed") == 1
     assert max(r.get("attempt", 1) for r in report.rows) >= 2  # Dask ran a lost task again
     _check_outputs(out, truth)
+
+
+def _look_project(path: Path, library: Path) -> dict[str, float]:
+    """A look made on the 32x32 Poly Haven set: values a test can predict at any size.
+
+    Bottom to top: a fill of roughness 0.8 at opacity 0.5 through a mask showing the
+    left half; a scale filter halving base color (edit space); a paint layer setting
+    roughness 0.2 over the top half.
+    """
+    from matshop.io.material_io import load_material
+    from matshop.io.project import save_project
+    from matshop.layers import Document
+    from matshop.layers.tiles import TileGrid
+
+    material, _ = load_material(library / "polyhaven" / "rock_wall_02")
+    doc = Document.from_material(material)
+    rough = doc.schema.edit_slices["roughness"]
+    fill_value = np.zeros(doc.channels, np.float32)
+    fill_value[rough] = 0.8**2  # GGX edit space: alpha = r^2 (DESIGN.md section 3)
+    fill = doc.new_fill_layer("wear", value=fill_value, parameters=["roughness"], opacity=0.5)
+    left = np.zeros((SIZE, SIZE), np.float32)
+    left[:, : SIZE // 2] = 1.0
+    fill.mask = doc.new_mask(array=left)
+    doc.insert_layer(fill)
+    doc.insert_layer(
+        doc.new_filter_layer("scale", op_params={"factor": 0.5}, parameters=["base_color"])
+    )
+    paint = doc.new_paint_layer("polish", parameters=["roughness"])
+    pixels = np.zeros((SIZE, SIZE, doc.channels + 1), np.float32)
+    pixels[: SIZE // 2, :, rough] = 0.2**2
+    pixels[: SIZE // 2, :, -1] = 1.0
+    paint.pixels = TileGrid.from_array(pixels, doc.layout)
+    doc.insert_layer(paint)
+    save_project(doc, path)
+
+
+@pytest.mark.parametrize("size", [16, 64])
+def test_matshop_look_applies_to_sets_of_other_sizes(
+    library: Path, cluster: str, tmp_path: Path, size: int
+) -> None:
+    from matshop.io.material_io import load_material
+
+    look = tmp_path / "look.matshop"
+    _look_project(look, library)
+    other = make_library(tmp_path / "lib", size)
+    out = tmp_path / "out"
+    report = run_batch(look, other, out, scheduler=cluster, pattern="polyhaven/*")
+    assert report.exit_status == 0, report.failed
+    source, _ = load_material(other / "polyhaven" / "rock_wall_02")
+    result, _ = load_material(out / "polyhaven" / "rock_wall_02")
+    assert result.size == (size, size)
+    # the prediction, composited by hand in edit space
+    edit = source.to_edit()
+    data = edit.data.copy()
+    rough, color = edit.schema.edit_slices["roughness"], edit.schema.edit_slices["base_color"]
+    half = size // 2
+    data[half:, :half, rough] = 0.5 * data[half:, :half, rough] + 0.5 * 0.8**2
+    data[..., color] *= 0.5
+    data[:half, :, rough] = 0.2**2
+    expected = type(edit)(edit.name, edit.schema, data, edit.sources).to_physical()
+    # away from the mask's and the paint's edges, which resampling softens (the
+    # image border too: textures tile, so the resampling wraps around)
+    keep = np.zeros((size, size), bool)
+    keep[2:-2, 2:-2] = True
+    keep[half - 2 : half + 2, :] = False
+    keep[:, half - 2 : half + 2] = False
+    for name in ("base_color", "roughness"):
+        diff = np.abs(result.maps[name] - expected.maps[name])[keep]
+        assert diff.max() <= 1.0 / 255 + 1e-6, name
+    assert np.allclose(result.maps["normal"], source.maps["normal"], atol=2 / 255)
+
+
+def test_look_without_layers_is_refused(library: Path, tmp_path: Path, capsys) -> None:
+    from matshop.io.material_io import load_material
+    from matshop.io.project import save_project
+    from matshop.layers import Document
+
+    material, _ = load_material(library / "polyhaven" / "rock_wall_02")
+    save_project(Document.from_material(material), tmp_path / "empty.matshop")
+    out = tmp_path / "out"
+    assert main(["batch", str(tmp_path / "empty.matshop"), str(library), str(out)]) == 2
+    assert "empty.matshop: the look has no layers above its base" in capsys.readouterr().err
+    assert not out.exists()

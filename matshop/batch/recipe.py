@@ -1,4 +1,4 @@
-"""Batch recipes: an op chain in TOML, in the CLI's own words.
+"""Batch recipes: an op chain in TOML (the CLI's own words), or a ``.matshop`` look.
 
     [[ops]]
     op = "blur"
@@ -52,10 +52,12 @@ class ExportPlan:
 
 @dataclass(frozen=True)
 class Recipe:
-    """What every set of a batch gets: an op chain, then raw maps or an export."""
+    """What every set of a batch gets: an op chain or a look, then raw maps or an export."""
 
     source: Path
     steps: tuple[Step, ...] = ()
+    #: a ``.matshop`` project whose layers above its base are applied instead of steps
+    look: Path | None = None
     export: ExportPlan | None = None
 
     def with_export(self, preset: str | None, size: int | None) -> Recipe:
@@ -71,14 +73,15 @@ class Recipe:
 
 
 def load_recipe(path: str | os.PathLike[str]) -> Recipe:
-    """Read and fully validate the recipe at ``path`` (TOML)."""
+    """Read and fully validate the recipe at ``path`` (TOML, or a ``.matshop`` look)."""
     path = Path(path)
     if not path.is_file():
         raise MatshopError("recipe not found", path)
     if is_project(path):
-        raise MatshopError(
-            "a .matshop look as a recipe is not supported yet; use a TOML recipe", path
-        )
+        from .look import check_look
+
+        check_look(path)
+        return Recipe(path, look=path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:

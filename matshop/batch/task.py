@@ -40,8 +40,8 @@ def run_set(job: SetJob, recipe: Recipe, out: str, *, force: bool = False) -> di
     }
     existed = target.exists()
     try:
-        written = _edit_and_write(job, recipe, target, force=force)
-        row.update(status="ok", outputs=[str(p) for p in written], error=None)
+        written, notes = _edit_and_write(job, recipe, target, force=force)
+        row.update(status="ok", outputs=[str(p) for p in written], error=None, notes=notes)
     except MatshopError as exc:
         row.update(status="failed", outputs=[], error=str(exc))
     except Exception as exc:  # a bug or a library's exception: still one line, others go on
@@ -54,16 +54,27 @@ def run_set(job: SetJob, recipe: Recipe, out: str, *, force: bool = False) -> di
     return row
 
 
-def _edit_and_write(job: SetJob, recipe: Recipe, target: Path, *, force: bool) -> list[Path]:
+def _edit_and_write(
+    job: SetJob, recipe: Recipe, target: Path, *, force: bool
+) -> tuple[list[Path], list[str]]:
+    """The set's files written, and notes worth a line in the report."""
     from ..api import EditableMaterial, load_mask
     from ..opchain import run_steps
 
-    m = EditableMaterial.from_path(job.source, material=job.material)
-    edited = run_steps(m, recipe.steps, mask_loader=partial(load_mask, resample=True)).physical()
+    if recipe.look is not None:
+        from ..io.material_io import load_material
+        from .look import apply_look
+
+        material, _ = load_material(job.source, material=job.material)
+        edited, notes = apply_look(recipe.look, material)
+    else:
+        m = EditableMaterial.from_path(job.source, material=job.material)
+        run_steps(m, recipe.steps, mask_loader=partial(load_mask, resample=True))
+        edited, notes = m.physical(), []
     if recipe.export is None:
         from ..io.material_io import save_material
 
-        return save_material(edited, target, overwrite=force)
+        return save_material(edited, target, overwrite=force), notes
     from ..export.core import export_material
 
     plan = recipe.export
@@ -77,7 +88,7 @@ def _edit_and_write(job: SetJob, recipe: Recipe, target: Path, *, force: bool) -
         mtlx=plan.mtlx,
         force=force,
     )
-    return [f.path for f in summary.files]
+    return [f.path for f in summary.files], notes + summary.warnings
 
 
 def attempt_file(out: Path, job: SetJob) -> Path:
