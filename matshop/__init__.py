@@ -19,3 +19,13 @@ def open(path, **load_options):  # noqa: A001 - matshop.open is the API's front 
     from .api import open as _open
 
     return _open(path, **load_options)
+
+
+def __getattr__(name):
+    # `matshop.batch(...)` after a plain `import matshop`: the batch package (which is
+    # callable, see matshop/batch/__init__.py) loads Dask only when first used
+    if name == "batch":
+        import importlib
+
+        return importlib.import_module(".batch", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

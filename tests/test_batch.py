@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 from batch_library import BROKEN_SET, GOOD_SETS, make_library
 
+import matshop
 from matshop.batch import load_recipe, run_batch
 from matshop.batch.task import ATTEMPTS_DIR
 from matshop.cli import main
@@ -152,7 +153,8 @@ def test_pattern_and_export_recipe_equal_export_verb(library: Path, cluster: str
     recipe = tmp_path / "export.toml"
     recipe.write_text('[export]\npreset = "gltf"\nsize = 16\n')
     out = tmp_path / "out"
-    report = run_batch(recipe, library, out, scheduler=cluster, pattern="materialx/*")
+    # the Python API's front door: the package is callable
+    report = matshop.batch(recipe, [library], out, scheduler=cluster, pattern="materialx/*")
     assert report.exit_status == 0 and report.count("ok") == 2
     for out_set in ("materialx/chess_set/king_black", "materialx/chess_set/king_white"):
         single = tmp_path / "single" / out_set
