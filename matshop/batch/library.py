@@ -58,7 +58,7 @@ def find_sets(
     """
     jobs: list[SetJob] = []
     for raw in inputs:
-        root = Path(raw)
+        root = Path(raw).absolute()  # workers elsewhere do not share our cwd
         if not root.exists():
             raise MatshopError("not found", root)
         prefix = (safe_stem(root.resolve().name, "input"),) if len(inputs) > 1 else ()

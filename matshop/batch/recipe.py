@@ -81,7 +81,7 @@ def load_recipe(path: str | os.PathLike[str]) -> Recipe:
         from .look import check_look
 
         check_look(path)
-        return Recipe(path, look=path)
+        return Recipe(path, look=path.resolve())
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
@@ -115,7 +115,7 @@ def _step(table: dict[str, Any], where: str, path: Path) -> Step:
         for key, value in table.items():
             if key in _OP_KEYS:
                 continue
-            values[key] = _value(spec, key, value, path.parent)
+            values[key] = _value(spec, key, value, path.resolve().parent)
         checked(name, values)
     except OpError as exc:
         raise MatshopError(f"{where} ({name}): {exc.problem}", path) from None
@@ -163,7 +163,7 @@ def _params(value: Any, where: str, path: Path) -> tuple[str, ...] | None:
 def _file(value: Any, where: str, path: Path) -> Path:
     if not isinstance(value, str) or not value:
         raise MatshopError(f"{where}: the path of a file, relative to the recipe", path)
-    found = path.parent / value
+    found = path.resolve().parent / value
     if not found.is_file():
         raise MatshopError(f"{where}: {value!r} not found beside the recipe", path)
     return found

@@ -37,6 +37,7 @@ def run_set(job: SetJob, recipe: Recipe, out: str, *, force: bool = False) -> di
         "output": str(target),
         "attempt": _count_attempt(Path(out), job),
         "worker": _worker_name(),
+        "notes": [],
     }
     existed = target.exists()
     try:
