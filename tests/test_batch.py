@@ -104,6 +104,7 @@ def _check_outputs(out: Path, truth: dict[str, dict[str, bytes]]) -> None:
         assert _files(out / out_set) == files, out_set
     assert not (out / BROKEN_SET).exists()  # all-or-nothing: nothing of the corrupt set
     assert not (out / ATTEMPTS_DIR).exists()
+    assert not list(out.rglob(".matshop-staging-*"))  # nothing half-written left behind
 
 
 def test_cli_batch_equals_apply_per_set(library: Path, truth, tmp_path: Path, capsys) -> None:
