@@ -231,10 +231,27 @@ def test_menus_are_reachable_and_enabled_sensibly(window) -> None:
     assert doc.layers[-1].kind == "fill" and doc.layers[-1].parameters is None
     a["delete"].trigger()
     assert len(doc) == 2
-    for name in ("fit", "actual", "zoom_in", "zoom_out", "undo", "redo"):
-        a[name].trigger()
+    view, canvas = window.canvas.view, window.canvas
+    a["actual"].trigger()
+    assert view.zoom == 1.0
+    a["zoom_in"].trigger()
+    assert view.zoom == pytest.approx(1.25)
+    a["zoom_out"].trigger()
+    assert view.zoom == pytest.approx(1.0)
+    a["fit"].trigger()  # the whole texture inside the canvas, filling most of one side
+    x0, y0 = view.to_widget(0, 0)
+    x1, y1 = view.to_widget(doc.width, doc.height)
+    assert x0 >= -0.5 and y0 >= -0.5 and x1 <= canvas.width() + 0.5 and y1 <= canvas.height() + 0.5
+    assert max((x1 - x0) / canvas.width(), (y1 - y0) / canvas.height()) > 0.8
+    layers = len(doc)
+    a["undo"].trigger()  # the delete above comes back
+    assert len(doc) == layers + 1
+    a["redo"].trigger()
+    assert len(doc) == layers
+    asked = len(window.files.prompts.asked)
     window.files.prompts.folder = None
-    a["export"].trigger()  # absent or present, it never raises; with no folder it stops
+    a["export"].trigger()  # with no folder chosen it stops: no error, nothing else asked
+    assert "error" not in [kind for kind, _ in window.files.prompts.asked[asked:]]
     for param in window.parameter_menu.actions():
         param.trigger()
         assert window.canvas.parameter == param.data()
