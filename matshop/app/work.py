@@ -3,11 +3,14 @@
 :func:`run_off_ui` runs a function on Qt's thread pool and waits for it in a
 local event loop, so callers keep a plain "call, get the result" shape (menu
 actions, scripts and tests alike) while the window goes on repainting and
-its timers go on firing: nothing freezes. A window-modal progress dialog
+its timers go on firing: nothing freezes. A progress panel over the window
 (shown only if the work lasts) says what is happening, shows the progress
 the engine reports through its ``progress(done, total)`` callbacks and, when
-the work can stop cleanly, offers Cancel; being modal it also keeps the user
-from changing the document the worker is reading.
+the work can stop cleanly, offers Cancel. Input to the window (shortcuts
+included) is held meanwhile, so the user cannot change the document the
+worker is reading. The panel is a child widget, not a dialog window: the
+main window keeps its activation and shortcuts, which nothing gives back
+without a window manager.
 
 The function must touch nothing the GUI thread changes meanwhile: callers
 hand it new objects (a path) or a :meth:`Document.snapshot`.
@@ -33,14 +36,14 @@ from PySide6.QtWidgets import (
 
 T = TypeVar("T")
 
-#: the dialog appears only for work that lasts longer than this
+#: the progress panel appears only for work that lasts longer than this
 SHOW_AFTER_MS = 400
 #: progress reports closer together than this are merged (signals cost GUI time)
 _REPORT_EVERY_S = 0.05
 
 
 class Cancelled(Exception):
-    """The user pressed Cancel; the work stopped at its next progress report."""
+    """The user pressed Cancel; the work stopped at its next progress report or checkpoint."""
 
 
 class _Relay(QObject):
