@@ -54,9 +54,26 @@ def _drawn(win) -> Callable[[], bool]:
     return lambda: win.canvas.cache is not None and not win.canvas.cache.busy
 
 
-def test_opening_exporting_saving_and_reopening_a_2k_set_never_stalls(window, tmp_path):
+def test_opening_exporting_saving_and_reopening_a_2k_set_never_stalls(
+    window, tmp_path, monkeypatch
+):
     beat = Heartbeat()
     report = []
+    # how long the window waited on the worker (the panel's promise is about that wait;
+    # the drawing after it is incremental on the GUI thread and measured by the heartbeat)
+    import matshop.app.files as files_module
+
+    waits: list[float] = []
+    real_run_off_ui = files_module.run_off_ui
+
+    def timed_run_off_ui(*args, **kwargs):
+        start = time.perf_counter()
+        try:
+            return real_run_off_ui(*args, **kwargs)
+        finally:
+            waits.append(time.perf_counter() - start)
+
+    monkeypatch.setattr(files_module, "run_off_ui", timed_run_off_ui)
 
     def check(what: str, wall: float, cpu: float) -> None:
         noise = beat.idle(0.5)
@@ -86,7 +103,11 @@ def test_opening_exporting_saving_and_reopening_a_2k_set_never_stalls(window, tm
     probe.stop()
     assert opened and window.session.doc.size == (2048, 2048)
     check("open 2K set", wall, cpu)
-    assert any(shown) or open_s < 2 * SHOW_AFTER_MS / 1000, "no progress shown while opening"
+    waited_s = max(waits, default=0.0)
+    assert any(shown) or waited_s < 2 * SHOW_AFTER_MS / 1000, (
+        f"no progress shown while the window waited {waited_s:.2f} s on the worker "
+        f"(open took {open_s:.2f} s in all)"
+    )
     assert not any(panel.isVisible() for panel in window.findChildren(QFrame, "progressPanel"))
 
     for op in ("blur", "unsharp", "curves"):  # each filter layer computes off the GUI thread
@@ -119,12 +140,23 @@ def test_opening_exporting_saving_and_reopening_a_2k_set_never_stalls(window, tm
     print("\n".join(report) + f"\nsave {save_s:.2f} s, reopen {reopen_s:.2f} s")
 
 
-def test_cancel_while_a_2k_set_opens_keeps_the_document_that_was_open(window) -> None:
+def test_cancel_while_a_2k_set_opens_keeps_the_document_that_was_open(window, monkeypatch) -> None:
     """The progress panel's Cancel (clicked by a timer while the worker reads the set; the
     window's other input is held meanwhile, the button's is not):
     open_path returns False, the sample that was open stays, nothing else changed."""
     sample = ROOT / "resources" / "sample"
     assert window.open_path(sample)
+    # the worker reads slowly (a big set on a slow disk), so the panel is up when the
+    # click comes whatever the machine's speed; without it a quiet machine finishes first
+    import matshop.app.files as files_module
+
+    real_load = files_module.load_material
+
+    def slow_load(*args, **kwargs):
+        time.sleep(1.5)
+        return real_load(*args, **kwargs)
+
+    monkeypatch.setattr(files_module, "load_material", slow_load)
     doc = window.session.doc
     layers = len(doc.layers)
     pressed = []
