@@ -11,8 +11,9 @@ shading model), each drawn by the real viewport and read back as 8-bit:
 - mirror: a white metal (F0 = 1) of very low roughness in a uniform
   environment reflects L where it faces the camera.
 
-The display transform is written out here (exposure, the clip or Narkowicz's
-ACES curve, the exact sRGB encoding of CONVENTIONS.md), not imported.
+The display transform is written out in the tests (exposure, the clip or Narkowicz's
+ACES curve here, the exact sRGB encoding of CONVENTIONS.md in tests/oracle.py), not
+imported from matshop.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ if no_display_reason() is not None:
     pytest.skip(no_display_reason(), allow_module_level=True)
 
 from gl_testing import shown_viewport  # noqa: E402
+from oracle import srgb_encode as srgb  # noqa: E402
 
 from matshop.layers import Document  # noqa: E402
 from matshop.material import Material, Schema  # noqa: E402
@@ -40,11 +42,6 @@ from matshop.render.integrator import DirectionalLight  # noqa: E402
 from matshop.viewport.gl import mesh_data  # noqa: E402
 
 SIZE = 192
-
-
-def srgb(linear: float) -> float:
-    x = min(max(linear, 0.0), 1.0)
-    return 12.92 * x if x <= 0.0031308 else 1.055 * x ** (1 / 2.4) - 0.055
 
 
 def narkowicz_aces(x: float) -> float:
@@ -104,7 +101,7 @@ def test_white_furnace_reflects_the_environment(viewport, radiance, tonemap) -> 
         lights=(),
         environment_scale=1.0,
         exposure=0.0,
-        tonemap="linear" if tonemap == "linear" else "aces",
+        tonemap=tonemap,
     )
     curve = narkowicz_aces if tonemap == "aces" else (lambda x: min(max(x, 0.0), 1.0))
     expected = code(srgb(curve(radiance)))

@@ -345,7 +345,8 @@ def _assemble(scan: _Scan, group: _Group, *, single: bool) -> TextureSet:
     provided: set[str] = set()
     for slot, claims in sorted(group.claims.items()):
         _take(result, slot, claims, provided)
-    for lender in scan.lenders(group):
+    lenders = scan.lenders(group)
+    for lender in lenders:
         for slot, claims in sorted(lender.claims.items()):
             if slot in result.maps or slot_provides(slot) <= provided:
                 continue
@@ -354,12 +355,12 @@ def _assemble(scan: _Scan, group: _Group, *, single: bool) -> TextureSet:
                 result.notes.append(
                     f"{slot}: {result.maps[slot].name}, shared with {siblings} in the folder"
                 )
-    for other in scan.groups.values():  # the lenders' maps this material does not take
-        if other is not group:
-            for slot, claims in other.claims.items():
-                for f, _ in claims:
-                    if f not in result.maps.values() and other.lends_to(group):
-                        result.not_used[f] = f"a {slot} map this material has already"
+    taken = set(result.maps.values())
+    for lender in lenders:  # the lenders' maps this material does not take
+        for slot, claims in lender.claims.items():
+            for f, _ in claims:
+                if f not in taken:
+                    result.not_used[f] = f"a {slot} map this material has already"
     for f, parsed in scan.extras:
         if single or _belongs(parsed.prefix_words, group):
             result.not_used[f] = EXTRAS[parsed.slot].description
