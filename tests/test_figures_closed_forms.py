@@ -15,7 +15,7 @@ import math
 
 import pytest
 
-from matshop.render.figures import make_figures
+from matshop.figures import make_figures
 
 ALPHA = 0.15  # the figure's lobe
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from matshop.figures import make_figures
+from matshop.figures.strips import LIGHT, half_max_width, lightness
 from matshop.render import scenes
-from matshop.render.fig_strips import LIGHT, half_max_width, lightness
-from matshop.render.figures import make_figures
 from matshop.render.materials import constant
 from matshop.render.render import RenderedImage, render
 
@@ -61,11 +61,11 @@ def test_fig9_stroke_file_replays_through_the_brush_engine(tmp_path):
     engine paints the bronze swatch where the first stroke passed (truth: its values)."""
     import json
 
+    from matshop.figures.paint import PAINTED, stroke_file
     from matshop.layers import Document
     from matshop.material import Material, Schema
     from matshop.paint.painter import StrokeSession
     from matshop.paint.strokefile import load_strokes
-    from matshop.render.fig_paint import PAINTED, stroke_file
 
     size = 128
     path = tmp_path / "strokes.json"
@@ -96,7 +96,7 @@ def test_fig1_burn_does_what_it_asks_in_edit_space_only():
     """Scale kd by 0.25 and frames by 2.5 inside a blob: in edit space the linear albedo
     (sRGB decoded here) drops x0.25 and the tilt (from the normals) grows x2.5; on the file
     values the albedo drops far more and renormalising the normals undoes the scale."""
-    from matshop.render.fig_sequences import apply_edit, apply_physical, sequences
+    from matshop.figures.sequences import apply_edit, apply_physical, sequences
     from matshop.render.materials import from_maps
 
     size = 48

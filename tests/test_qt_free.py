@@ -20,6 +20,8 @@ ENGINE_MODULES = [
     "matshop.layers",
     "matshop.paint",
     "matshop.render",
+    "matshop.figures",
+    "matshop.figures.edits",
     "matshop.derive",
     "matshop.batch",
     "matshop.cli",

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from matshop.cli import main
+from matshop.figures import make_figures
 from matshop.io.images import read_image
-from matshop.render.figures import make_figures
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
 

@@ -4,7 +4,7 @@ Same comparison as ``tests/test_viewport_gl.py`` (8-bit display values over
 the sphere, same view, environment, light, samples, texture level), on the
 chessboard set (512^2) with its GGX roughness re-expressed per texel as
 Beckmann, Phong, an anisotropic Ashikhmin-Shirley lobe with a tangent frame,
-and tabulated (sampled) lobes (:func:`matshop.render.synthetic.with_lobe`:
+and tabulated (sampled) lobes (:func:`matshop.figures.synthetic.with_lobe`:
 each keeps the GGX lobe's median angle). For each, a deliberately wrong
 lobe -- another family, or the anisotropic axes swapped -- must fail the
 tolerance.
@@ -34,15 +34,15 @@ if no_display_reason() is not None:  # before pytest-qt starts Qt
 
 from gl_testing import shown_viewport  # noqa: E402
 
+from matshop.figures.common import resized  # noqa: E402
+from matshop.figures.synthetic import with_lobe  # noqa: E402
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import Document  # noqa: E402
 from matshop.material import Material  # noqa: E402
 from matshop.render import scenes  # noqa: E402
-from matshop.render.fig_edits import _resized  # noqa: E402
 from matshop.render.integrator import DirectionalLight  # noqa: E402
 from matshop.render.render import render  # noqa: E402
 from matshop.render.surface import prefilter_factor  # noqa: E402
-from matshop.render.synthetic import with_lobe  # noqa: E402
 from matshop.render.tonemap import to_uint8  # noqa: E402
 from matshop.viewport.gl import mesh_data  # noqa: E402
 
@@ -86,7 +86,7 @@ def base(request):
     if request.param == "chessboard" and not CHESSBOARD.is_dir():
         pytest.skip(f"{CHESSBOARD} not present (the shared data folder)")
     loaded, _ = load_material(SAMPLE if request.param == "sample" else CHESSBOARD)
-    return _resized(loaded, 512)
+    return resized(loaded, 512)
 
 
 def _reference(material: Material) -> np.ndarray:
@@ -167,7 +167,7 @@ def test_anisotropic_axes_follow_the_tangent_frame(viewport, base):
 def small(base):
     # 256^2: the reference reads it at level 0 for this view, so both renderers
     # read the same quantiles (mips of quantiles and of tables differ)
-    return _resized(base, 256)
+    return resized(base, 256)
 
 
 @pytest.mark.parametrize("family", ["sampled", "sampled_two_lobe"])

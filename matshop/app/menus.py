@@ -17,11 +17,11 @@ from .icons import icon
 from .layer_commands import filter_ops
 
 if TYPE_CHECKING:
-    from .main_window import MainWindow
+    from .window_parts import EditorWindow
 
 
 def _action(
-    window: MainWindow,
+    window: EditorWindow,
     text: str,
     slot: Callable[[], object],
     shortcut: str | QKeySequence.StandardKey | list[str] | None = None,
@@ -48,7 +48,7 @@ def _action(
     return action
 
 
-def build_actions(w: MainWindow) -> dict[str, QAction]:
+def build_actions(w: EditorWindow) -> dict[str, QAction]:
     files, layers, canvas = w.files, w.layer_commands, w.canvas
     a = {
         "open": _action(w, "&Open...", files.open_dialog, "Ctrl+O", icon_name="open"),
@@ -166,7 +166,7 @@ def build_actions(w: MainWindow) -> dict[str, QAction]:
     return a
 
 
-def build_menus(w: MainWindow, a: dict[str, QAction]) -> None:
+def build_menus(w: EditorWindow, a: dict[str, QAction]) -> None:
     bar = w.menuBar()
     file_menu = bar.addMenu("&File")
     file_menu.addActions([a["open"], a["open_folder"]])

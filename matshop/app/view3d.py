@@ -44,7 +44,7 @@ from ..tools.painting import MASK_HIDE
 from .prompts import Prompts
 
 if TYPE_CHECKING:
-    from .main_window import MainWindow
+    from .window_parts import EditorWindow
 
 #: the shared meshes (../shared/data/geometry next to the repository), when present
 SHARED_GEOMETRY = Path(__file__).resolve().parents[3] / "shared" / "data" / "geometry"
@@ -185,7 +185,7 @@ def _viewport_class() -> type:
 class View3DDock(QDockWidget):
     """The "3D View" dock of the main window (see the module docstring)."""
 
-    def __init__(self, window: MainWindow, action: QAction) -> None:
+    def __init__(self, window: EditorWindow, action: QAction) -> None:
         super().__init__("3D View", window)
         self.setObjectName("view3d_dock")
         self.window_ = window

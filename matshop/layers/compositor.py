@@ -22,17 +22,33 @@ exactly the tiles of every cache to drop, and the dirty tiles to report.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
+from ..material import Schema
 from .blend import blend, get_blend_mode, mean_of, weighted_mean
 from .cache import TileCache
-from .geometry import Rect, TileSet, periodic_runs
+from .geometry import Rect, TileLayout, TileSet, periodic_runs
 from .layer import FillLayer, FilterLayer, GroupLayer, Layer, PaintLayer
 
-if TYPE_CHECKING:
-    from .document import Document
+
+class LayerStack(Protocol):
+    """What compositing reads of a document: its layers, tiling, schema and background.
+
+    The compositor is typed against this, not the document that owns it, so the two
+    modules do not import each other.
+    """
+
+    layers: list[Layer]
+    layout: TileLayout
+    schema: Schema
+    background: np.ndarray
+
+    def shows(self, layer: Layer) -> bool: ...
+
+    def group_starts(self) -> dict[int, int]: ...
+
 
 #: Texels per rectangle computed in one go (bounds temporaries to ~100s of MB
 #: for wide schemas while keeping the per-call overhead negligible).
@@ -103,7 +119,7 @@ def filter_by_tile(
 
 
 def close_group(
-    doc: Document, group: GroupLayer, below: np.ndarray, block: np.ndarray, rect: Rect
+    doc: LayerStack, group: GroupLayer, below: np.ndarray, block: np.ndarray, rect: Rect
 ) -> None:
     """End a pass-through group in place: ``block = lerp(below, block, opacity x mask)``.
 
@@ -119,7 +135,7 @@ def close_group(
     block[...] = mixed
 
 
-def is_barrier(layer: Layer, doc: Document) -> bool:
+def is_barrier(layer: Layer, doc: LayerStack) -> bool:
     """A visible filter reading a neighbourhood: it gets a checkpoint cache."""
     return isinstance(layer, FilterLayer) and doc.shows(layer) and layer.reach(doc.layout) != 0
 
@@ -127,7 +143,7 @@ def is_barrier(layer: Layer, doc: Document) -> bool:
 class Compositor:
     """Caches and computes the flattened document; knows what an edit invalidates."""
 
-    def __init__(self, doc: Document) -> None:
+    def __init__(self, doc: LayerStack) -> None:
         self.doc = doc
         self.top = TileCache(doc.layout, doc.schema.edit_width)
         phys_width = sum(p.phys_channels for p in doc.schema.parameters)

@@ -192,7 +192,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
 
 
 def _cmd_figures(args: argparse.Namespace) -> int:
-    from .figures import make_figures
+    from ..figures import make_figures
 
     only = [name.strip() for name in args.only.split(",")] if args.only else None
     results = make_figures(args.outdir, only=only, data=args.data)

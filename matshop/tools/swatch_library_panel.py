@@ -24,7 +24,7 @@ from PySide6.QtWidgets import (
 from ..paint import Swatch
 from .settings import SwatchModel, short_label
 from .swatch_library import SwatchLibrary
-from .tool_panel import file_codes_to_qcolor
+from .widgets import file_codes_to_qcolor
 
 #: Parameters whose value colours a swatch's icon, first found wins.
 _COLOR_PARAMETERS = ("base_color", "diffuse", "albedo")

@@ -26,26 +26,19 @@ from PySide6.QtWidgets import (
 
 from ..material import Parameter, Schema
 from .settings import BRUSH_SETTINGS, BrushSettings, SwatchModel, short_label
-from .widgets import ColorButton, FloatSlider, discard_widget
+from .swatch_library_panel import SwatchLibraryPanel
+from .widgets import (
+    ColorButton,
+    FloatSlider,
+    discard_widget,
+    file_codes_to_qcolor,
+    qcolor_to_file_codes,
+)
 
 if TYPE_CHECKING:
     from .swatch_library import SwatchLibrary
-    from .swatch_library_panel import SwatchLibraryPanel
 
 ColorPicker = Callable[[QColor, QWidget], QColor | None]
-
-
-def file_codes_to_qcolor(rgb: tuple[float, ...]) -> QColor:
-    """A swatch color (the file's encoded values in [0, 1]) as the QColor of the same codes.
-
-    Swatch colors are physical values, which for colors are already the
-    file's sRGB-encoded values: shown and picked as they are, never encoded again.
-    """
-    return QColor.fromRgbF(*(min(max(c, 0.0), 1.0) for c in rgb[:3]))
-
-
-def qcolor_to_file_codes(color: QColor) -> tuple[float, float, float]:
-    return (color.redF(), color.greenF(), color.blueF())
 
 
 def _ask_color(initial: QColor, parent: QWidget) -> QColor | None:
@@ -227,9 +220,6 @@ class ToolPanel(QWidget):
         layout.addWidget(self.swatch_editor)
         self.library_panel: SwatchLibraryPanel | None = None
         if library is not None:
-            # imported here: the library panel borrows this module's color conversion
-            from .swatch_library_panel import SwatchLibraryPanel
-
             self.library_panel = SwatchLibraryPanel(library, swatch)
             layout.addWidget(self.library_panel)
         layout.addStretch(1)

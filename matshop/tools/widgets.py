@@ -26,6 +26,19 @@ from PySide6.QtWidgets import (
 _STEPS = 1000
 
 
+def file_codes_to_qcolor(rgb: tuple[float, ...]) -> QColor:
+    """A swatch color (the file's encoded values in [0, 1]) as the QColor of the same codes.
+
+    Swatch colors are physical values, which for colors are already the
+    file's sRGB-encoded values: shown and picked as they are, never encoded again.
+    """
+    return QColor.fromRgbF(*(min(max(c, 0.0), 1.0) for c in rgb[:3]))
+
+
+def qcolor_to_file_codes(color: QColor) -> tuple[float, float, float]:
+    return (color.redF(), color.greenF(), color.blueF())
+
+
 class FloatSlider(QWidget):
     """Label, slider and number box for one float in ``[lo, hi]`` (optionally log-scaled)."""
 

@@ -28,10 +28,10 @@ from ..io.material_io import load_material
 from ..layers import Document
 from ..paint.painter import StrokeSession
 from ..paint.strokefile import load_strokes
-from . import plots
-from .fig_edits import _resized
-from .figures import ROOT, FigureContext, FigureResult, display
-from .render import render
+from ..render.render import render
+from . import drawing
+from .common import resized
+from .context import ROOT, FigureContext, FigureResult, display
 
 SIZE = 512
 MESH = ROOT.parent / "shared" / "data" / "geometry" / "sphere.obj"
@@ -106,7 +106,7 @@ def _frame(material, size: int) -> np.ndarray:
 
 def fig9(ctx: FigureContext) -> FigureResult:
     material, _ = load_material(ctx.data)
-    material = _resized(material, SIZE)
+    material = resized(material, SIZE)
     path = ctx.outdir / "fig9_strokes.json"
     path.write_text(json.dumps(stroke_file(SIZE)))
     strokes = load_strokes(path)
@@ -114,7 +114,7 @@ def fig9(ctx: FigureContext) -> FigureResult:
     layer = doc.new_paint_layer("Paint", parameters=PAINTED)
     doc.insert_layer(layer)
     frames = [
-        plots.caption(_frame(doc.flatten_physical(), 200), ["start", "no strokes"], scale=0.4)
+        drawing.caption(_frame(doc.flatten_physical(), 200), ["start", "no strokes"], scale=0.4)
     ]
     values: dict[str, float] = {}
     total_dabs, total_s = 0, 0.0
@@ -132,11 +132,11 @@ def fig9(ctx: FigureContext) -> FigureResult:
         label = f"{number}. {name}: {session.dabs} dabs"
         timing = f"{values[f'stroke{number}_ms_per_dab']:.2f} ms/dab"
         frames.append(
-            plots.caption(_frame(doc.flatten_physical(), 200), [label, timing], scale=0.4)
+            drawing.caption(_frame(doc.flatten_physical(), 200), [label, timing], scale=0.4)
         )
     values["ms_per_dab"] = 1e3 * total_s / max(total_dabs, 1)
-    image = plots.caption(
-        plots.grid([frames], gap=3),
+    image = drawing.caption(
+        drawing.grid([frames], gap=3),
         [
             f"Fig. 9: a scripted painting session (fig9_strokes.json) replayed through the brush"
             f" engine on '{material.name}' ({SIZE}x{SIZE}),",

@@ -17,97 +17,45 @@
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
 from ..api import EditableMaterial
 from ..io.material_io import load_material
 from ..material import Material, Schema
 from ..ops import get_op
-from . import plots
-from .figures import SAMPLE, FigureContext, FigureResult, display
-from .integrator import DirectionalLight
-from .render import render
-
-TILE = 224
-#: a grazing key light brings out relief on the tilted swatch
-RELIEF_LIGHT = DirectionalLight((-0.8, 0.7, 0.5), (2.5, 2.5, 2.5))
-
-
-def _swatch(ctx: FigureContext, material: Material, size: int = TILE) -> np.ndarray:
-    image = render(
-        material,
-        scene="swatch",
-        size=size,
-        environment=ctx.environment,
-        lights=(RELIEF_LIGHT,),
-        samples=24,
-    )
-    return display(image)
-
-
-def _tilt_deg(normal: np.ndarray) -> np.ndarray:
-    return np.degrees(np.arccos(np.clip(normal[..., 2], -1.0, 1.0)))
-
-
-def _with(material: Material, **maps: np.ndarray) -> Material:
-    return Material(material.name, material.schema, {**material.maps, **maps}, material.sources)
-
-
-def _resized(material: Material, size: int) -> Material:
-    h, w = material.size
-    if max(h, w) <= size:
-        return material
-    maps = {}
-    for name, arr in material.maps.items():
-        out = cv2.resize(arr, (size, size), interpolation=cv2.INTER_AREA).reshape(size, size, -1)
-        if name == "normal":
-            out = out / np.linalg.norm(out[..., :3], axis=-1, keepdims=True)
-        maps[name] = out.astype(np.float32)
-    return Material(material.name, material.schema, maps, material.sources)
-
-
-def _height_blur(normal: np.ndarray, sigma: float) -> np.ndarray:
-    nz = np.maximum(normal[..., 2:3], 1e-3)
-    slopes = -normal[..., :2] / nz
-    blurred = _wrap_blur(slopes, sigma)
-    n = np.concatenate([-blurred, np.ones_like(nz)], axis=-1)
-    return (n / np.linalg.norm(n, axis=-1, keepdims=True)).astype(np.float32)
-
-
-def _wrap_blur(image: np.ndarray, sigma: float) -> np.ndarray:
-    from ..ops.blur import gaussian
-
-    return gaussian(np.ascontiguousarray(image, dtype=np.float32), sigma, "wrap")
+from . import drawing
+from .common import height_blur, resized, swatch, with_maps, wrap_blur
+from .context import SAMPLE, FigureContext, FigureResult
+from .measure import tilt_deg
 
 
 def fig2(ctx: FigureContext) -> FigureResult:
     material, _ = load_material(SAMPLE)
     base = material.maps["normal"]
-    t0 = float(_tilt_deg(base).mean())
+    t0 = float(tilt_deg(base).mean())
     rows, values = [], {"tilt_original": t0}
-    tiles_edit, tiles_height, lines = [_swatch(ctx, material)], [_swatch(ctx, material)], []
+    tiles_edit, tiles_height, lines = [swatch(ctx, material)], [swatch(ctx, material)], []
     for sigma in (3.0, 10.0):
         edited = EditableMaterial(material.to_edit()).apply("blur", sigma_px=sigma, params="normal")
         n_edit = edited.physical().maps["normal"]
-        n_height = _height_blur(base, sigma)
-        te, th = float(_tilt_deg(n_edit).mean()), float(_tilt_deg(n_height).mean())
+        n_height = height_blur(base, sigma)
+        te, th = float(tilt_deg(n_edit).mean()), float(tilt_deg(n_height).mean())
         values[f"tilt_edit_s{sigma:g}"], values[f"tilt_height_s{sigma:g}"] = te, th
-        tiles_edit.append(_swatch(ctx, _with(material, normal=n_edit)))
-        tiles_height.append(_swatch(ctx, _with(material, normal=n_height)))
+        tiles_edit.append(swatch(ctx, with_maps(material, normal=n_edit)))
+        tiles_height.append(swatch(ctx, with_maps(material, normal=n_height)))
         lines.append(f"sigma {sigma:g}px: mean tilt edit {te:.1f} deg, height field {th:.1f} deg")
     rows.append(
         [
-            plots.side_label(
-                plots.grid([tiles_edit], gap=2),
+            drawing.side_label(
+                drawing.grid([tiles_edit], gap=2),
                 ["(a) blur of frames", "in edit space", "sigma 0, 3, 10 px"],
             )
         ]
     )
     rows.append(
         [
-            plots.side_label(
-                plots.grid([tiles_height], gap=2),
+            drawing.side_label(
+                drawing.grid([tiles_height], gap=2),
                 ["(a) blur of frames", "as a height field", "sigma 0, 3, 10 px"],
             )
         ]
@@ -138,11 +86,11 @@ def fig2(ctx: FigureContext) -> FigureResult:
         "clipped_edit": clip_edit,
         "clipped_physical": out_of_range,
     }
-    tiles_b = [_swatch(ctx, material), _swatch(ctx, edit_result), _swatch(ctx, phys_result)]
+    tiles_b = [swatch(ctx, material), swatch(ctx, edit_result), swatch(ctx, phys_result)]
     rows.append(
         [
-            plots.side_label(
-                plots.grid([tiles_b], gap=2),
+            drawing.side_label(
+                drawing.grid([tiles_b], gap=2),
                 ["(b) unsharp mask,", "all parameters:", "original, edit,", "physical space"],
             )
         ]
@@ -152,8 +100,8 @@ def fig2(ctx: FigureContext) -> FigureResult:
         f"physical {100 * out_of_range:.1f}%; "
         f"highlight-size contrast gain: edit x{gain_e:.2f}, physical x{gain_p:.2f}"
     )
-    image = plots.caption(
-        plots.grid(rows, gap=3),
+    image = drawing.caption(
+        drawing.grid(rows, gap=3),
         [
             f"Fig. 2: bundled tile set. (a) mean normal tilt originally {t0:.1f} deg; " + lines[0],
             "   " + lines[1],
@@ -203,12 +151,12 @@ def _luma(material: Material) -> np.ndarray:
 
 
 def _high_freq(x: np.ndarray) -> float:
-    return float((x - _wrap_blur(x[..., None], 3.0)[..., 0]).std())
+    return float((x - wrap_blur(x[..., None], 3.0)[..., 0]).std())
 
 
 def fig7(ctx: FigureContext) -> FigureResult:
     material, _ = load_material(ctx.data)
-    material = _resized(material, 512)
+    material = resized(material, 512)
     h, w = material.size
     edit0 = material.to_edit()
     tiles, values = [], {}
@@ -217,14 +165,14 @@ def fig7(ctx: FigureContext) -> FigureResult:
         m = EditableMaterial(edit0).apply(op, **kwargs)
         phys = m.physical()
         tiles.append(
-            plots.caption(_swatch(ctx, phys, 200), [label, measure], height=13, scale=0.33)
+            drawing.caption(swatch(ctx, phys, 200), [label, measure], height=13, scale=0.33)
         )
         return m
 
-    tilt0 = float(_tilt_deg(material.maps["normal"]).mean())
+    tilt0 = float(tilt_deg(material.maps["normal"]).mean())
     tiles.append(
-        plots.caption(
-            _swatch(ctx, material, 200),
+        drawing.caption(
+            swatch(ctx, material, 200),
             ["original", f"mean tilt {tilt0:.2f} deg"],
             height=13,
             scale=0.33,
@@ -235,11 +183,11 @@ def fig7(ctx: FigureContext) -> FigureResult:
         .apply("scale", factor=3.0, params="normal")
         .apply("scale", factor=0.6, params="base_color")
     )
-    tilt1 = float(_tilt_deg(scaled.physical().maps["normal"]).mean())
+    tilt1 = float(tilt_deg(scaled.physical().maps["normal"]).mean())
     values["scale_tilt"] = tilt1 / tilt0
     tiles.append(
-        plots.caption(
-            _swatch(ctx, scaled.physical(), 200),
+        drawing.caption(
+            swatch(ctx, scaled.physical(), 200),
             ["(a) scale frames x3, kd x0.6", f"mean tilt x{tilt1 / tilt0:.2f}"],
             height=13,
             scale=0.33,
@@ -254,8 +202,8 @@ def fig7(ctx: FigureContext) -> FigureResult:
     )
     values["curves_contrast"] = float(_luma(m.physical()).std() / l0.std())
     tiles.append(
-        plots.caption(
-            _swatch(ctx, m.physical(), 200),
+        drawing.caption(
+            swatch(ctx, m.physical(), 200),
             ["(b) S-curve on kd, r, frames", f"kd contrast x{values['curves_contrast']:.2f}"],
             height=13,
             scale=0.33,
@@ -267,8 +215,8 @@ def fig7(ctx: FigureContext) -> FigureResult:
     )
     values["bilateral_hf"] = _high_freq(_luma(m.physical())) / _high_freq(l0)
     tiles.append(
-        plots.caption(
-            _swatch(ctx, m.physical(), 200),
+        drawing.caption(
+            swatch(ctx, m.physical(), 200),
             ["(c) bilateral on kd + frames", f"kd fine detail x{values['bilateral_hf']:.2f}"],
             height=13,
             scale=0.33,
@@ -284,8 +232,8 @@ def fig7(ctx: FigureContext) -> FigureResult:
     m = EditableMaterial(edit0).apply("composite", over=metal, mask=ramp)
     values["composite_left"] = float(np.abs(m.edit.data[:, 0] - edit0.data[:, 0]).max())
     tiles.append(
-        plots.caption(
-            _swatch(ctx, m.physical(), 200),
+        drawing.caption(
+            swatch(ctx, m.physical(), 200),
             [
                 "(d) composite metal, ramp mask",
                 f"left column unchanged: {values['composite_left']:.1e}",
@@ -301,22 +249,22 @@ def fig7(ctx: FigureContext) -> FigureResult:
     )
     values["detail_hf"] = _high_freq(_luma(m.physical())) / _high_freq(l0)
     tiles.append(
-        plots.caption(
-            _swatch(ctx, m.physical(), 200),
+        drawing.caption(
+            swatch(ctx, m.physical(), 200),
             ["(e) unsharp mask, kd + roughness", f"kd fine detail x{values['detail_hf']:.2f}"],
             height=13,
             scale=0.33,
         )
     )
-    tilt_map0 = _tilt_deg(material.maps["normal"])
+    tilt_map0 = tilt_deg(material.maps["normal"])
     m = EditableMaterial(edit0).apply(
         "detail", amount=3.0, sigma_px=4.0, sigma_range=0.1, params=["normal"]
     )
-    tilt_map = _tilt_deg(m.physical().maps["normal"])
+    tilt_map = tilt_deg(m.physical().maps["normal"])
     values["detail_tilt_hf"] = _high_freq(tilt_map) / _high_freq(tilt_map0)
     tiles.append(
-        plots.caption(
-            _swatch(ctx, m.physical(), 200),
+        drawing.caption(
+            swatch(ctx, m.physical(), 200),
             ["(f) unsharp mask, frames", f"tilt fine detail x{values['detail_tilt_hf']:.2f}"],
             height=13,
             scale=0.33,
@@ -328,8 +276,8 @@ def fig7(ctx: FigureContext) -> FigureResult:
     m = EditableMaterial(edit0).apply("clone", region=region, offset=(-4 * s, 4 * s))
     values["clone_changed"] = float(np.mean(np.any(m.edit.data != edit0.data, axis=2)))
     tiles.append(
-        plots.caption(
-            _swatch(ctx, m.physical(), 200),
+        drawing.caption(
+            swatch(ctx, m.physical(), 200),
             [
                 "(g) seamless clone (checker",
                 f"square), {100 * values['clone_changed']:.1f}% of texels",
@@ -339,8 +287,8 @@ def fig7(ctx: FigureContext) -> FigureResult:
         )
     )
 
-    image = plots.caption(
-        plots.grid([tiles[:4], tiles[4:]], gap=3),  # original, (a)-(c) | (d)-(g)
+    image = drawing.caption(
+        drawing.grid([tiles[:4], tiles[4:]], gap=3),  # original, (a)-(c) | (d)-(g)
         [
             f"Fig. 7: ops in edit space on '{material.name}' ({w}x{h}), "
             "rendered as swatches (studio + key light)."

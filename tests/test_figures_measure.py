@@ -5,21 +5,22 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from matshop.render import fig_aniso, fig_steep
-from matshop.render.materials import constant
-from matshop.render.measure import (
+from matshop.figures import aniso as fig_aniso
+from matshop.figures import steep as fig_steep
+from matshop.figures.measure import (
     axis_difference_deg,
     highlight_shape,
     median_lobe_deg,
     steep_fraction,
     tilt_deg,
 )
-from matshop.render.synthetic import (
+from matshop.figures.synthetic import (
     exponent_from_roughness,
     phong_tiles,
     steep_studs,
     with_anisotropy,
 )
+from matshop.render.materials import constant
 from matshop.spaces.frame import height_to_normal
 
 

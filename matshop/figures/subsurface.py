@@ -19,13 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..render import environment
+from ..render.materials import from_maps
+from ..render.render import RenderedImage, render
+from ..render.subsurface import transport
 from ..spaces import get_space
 from ..spaces.subsurface import profile_burley
-from . import environment, plots
-from .figures import FigureContext, FigureResult, display
-from .materials import from_maps
-from .render import RenderedImage, render
-from .subsurface import transport
+from . import drawing
+from .context import FigureContext, FigureResult, display
 
 SIZE = 96
 SCALES = (0.5, 1.0, 2.0)
@@ -87,11 +88,11 @@ def fig8(ctx: FigureContext) -> FigureResult:
             float(line[..., 0].sum()),
         )
         diffuse_tiles.append(
-            plots.caption(_big(display(image)), [f"s = {s:g}, diffuse light"], scale=0.4)
+            drawing.caption(_big(display(image)), [f"s = {s:g}, diffuse light"], scale=0.4)
         )
         line_image = RenderedImage(line.astype(np.float32), np.ones((SIZE, SIZE), np.float32))
         line_tiles.append(
-            plots.caption(
+            drawing.caption(
                 _big(display(line_image, exposure=2.0)), [f"s = {s:g}, line light"], scale=0.4
             )
         )
@@ -101,7 +102,7 @@ def fig8(ctx: FigureContext) -> FigureResult:
         values[f"diffuse_ratio_s{s:g}"] = mean / ref[0]
         values[f"line_spread_ratio_s{s:g}"] = spread / ref[1]
         values[f"line_total_ratio_s{s:g}"] = total / ref[2]
-    plot = plots.line_plot(
+    plot = drawing.line_plot(
         series,
         size=(6 * SIZE + 4, 220),
         xlim=(-24, 24),
@@ -122,6 +123,8 @@ def fig8(ctx: FigureContext) -> FigureResult:
         + " / x".join(f"{values[f'line_total_ratio_s{s:g}']:.3f}" for s in SCALES)
         + ".",
     ]
-    image = plots.caption(plots.grid([diffuse_tiles, line_tiles, [plot]], gap=2), lines, scale=0.38)
+    image = drawing.caption(
+        drawing.grid([diffuse_tiles, line_tiles, [plot]], gap=2), lines, scale=0.38
+    )
     text = "; ".join(f"{k} {v:.3f}" for k, v in values.items())
     return FigureResult("fig8", ctx.save("fig8_subsurface_scaling", image), text, values)

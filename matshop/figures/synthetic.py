@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..material import Material, Schema
+from ..render.materials import from_maps
 from ..spaces import get_space
-from .materials import from_maps
 
 
 def steep_studs(

@@ -2,8 +2,8 @@
 
 The tile set's normals tilt 13 degrees on average and its roughness is GGX
 perceptual roughness, nearly linear in highlight size; on it both halves of
-Fig. 2 measure small differences (:func:`matshop.render.fig_edits.fig2`).
-Here the same two edits run on synthetic data (:mod:`matshop.render.synthetic`):
+Fig. 2 measure small differences (:func:`matshop.figures.edits.fig2`).
+Here the same two edits run on synthetic data (:mod:`matshop.figures.synthetic`):
 
 (a) Gaussian blur of the frames of steep studs (walls at 55 degrees, flat tops
     and ground), as a height field vs in edit space. Measured: the mean tilt
@@ -24,14 +24,14 @@ import numpy as np
 from ..api import EditableMaterial
 from ..material import Material, Schema
 from ..ops import get_op
+from ..render.integrator import DirectionalLight
+from ..render.materials import from_maps
+from ..render.render import render
 from ..spaces.frame import height_to_normal
-from . import plots
-from .fig_edits import _height_blur, _swatch, _with
-from .figures import FigureContext, FigureResult, display
-from .integrator import DirectionalLight
-from .materials import from_maps
+from . import drawing
+from .common import height_blur, swatch, with_maps
+from .context import FigureContext, FigureResult, display
 from .measure import median_lobe_deg, steep_fraction, tilt_deg
-from .render import render
 from .synthetic import phong_tiles, steep_studs
 
 SIGMAS = (3.0, 10.0)
@@ -56,7 +56,7 @@ def relief_blur(normal: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarra
     """``normal`` blurred by ``sigma`` px in the frame edit space and as a height field."""
     material = from_maps({"base_color": np.full(normal.shape, 0.5, np.float32), "normal": normal})
     edit = EditableMaterial(material.to_edit()).apply("blur", sigma_px=sigma, params="normal")
-    return edit.physical().maps["normal"], _height_blur(normal, sigma)
+    return edit.physical().maps["normal"], height_blur(normal, sigma)
 
 
 def _relief(ctx: FigureContext) -> tuple[list, list[str], dict[str, float]]:
@@ -71,7 +71,7 @@ def _relief(ctx: FigureContext) -> tuple[list, list[str], dict[str, float]]:
     )
     t0, f0 = float(tilt_deg(normal).mean()), steep_fraction(normal, STEEP_DEG)
     values = {"studs_tilt_original": t0, "studs_steep_original": f0}
-    tiles = {"edit": [_swatch(ctx, base)], "height": [_swatch(ctx, base)]}
+    tiles = {"edit": [swatch(ctx, base)], "height": [swatch(ctx, base)]}
     lines = []
     for sigma in SIGMAS:
         n_edit, n_height = relief_blur(normal, sigma)
@@ -80,13 +80,13 @@ def _relief(ctx: FigureContext) -> tuple[list, list[str], dict[str, float]]:
             tilt, steep = float(tilt_deg(n).mean()), steep_fraction(n, STEEP_DEG)
             values[f"studs_tilt_{key}_s{sigma:g}"] = tilt
             values[f"studs_steep_{key}_s{sigma:g}"] = steep
-            tiles[key].append(_swatch(ctx, _with(base, normal=n)))
+            tiles[key].append(swatch(ctx, with_maps(base, normal=n)))
             parts.append(f"{key} {tilt:.1f} deg ({100 * steep:.0f}% steep)")
         lines.append(f"sigma {sigma:g}px: mean tilt " + ", ".join(parts))
     rows = [
         [
-            plots.side_label(
-                plots.grid([tiles["edit"]], gap=2),
+            drawing.side_label(
+                drawing.grid([tiles["edit"]], gap=2),
                 [
                     "(a) synthetic studs,",
                     f"{WALL_DEG:g} deg walls: blur",
@@ -96,8 +96,8 @@ def _relief(ctx: FigureContext) -> tuple[list, list[str], dict[str, float]]:
             )
         ],
         [
-            plots.side_label(
-                plots.grid([tiles["height"]], gap=2),
+            drawing.side_label(
+                drawing.grid([tiles["height"]], gap=2),
                 ["(a) synthetic studs:", "blur as a", "height field", "sigma 0, 3, 10 px"],
             )
         ],
@@ -143,7 +143,7 @@ def _profile_plot(tiles: np.ndarray, angles: dict[str, np.ndarray]) -> np.ndarra
     row = (2 * first + int(np.argmin(tiled[first:]))) // 2
     x = np.arange(96, dtype=float)
     series = [(x, a[row, :96], label) for label, a in angles.items()]
-    return plots.line_plot(
+    return drawing.line_plot(
         series,
         size=(300, 224),
         ylim=(0.0, 60.0),
@@ -194,8 +194,8 @@ def _unsharp(ctx: FigureContext) -> tuple[list, list[str], dict[str, float]]:
     ]
     rows = [
         [
-            plots.side_label(
-                plots.grid([row], gap=2),
+            drawing.side_label(
+                drawing.grid([row], gap=2),
                 [
                     "(b) synthetic Phong",
                     "tiles, unsharp mask:",
@@ -211,8 +211,8 @@ def _unsharp(ctx: FigureContext) -> tuple[list, list[str], dict[str, float]]:
 def fig2_synthetic(ctx: FigureContext) -> FigureResult:
     rows_a, lines_a, values = _relief(ctx)
     rows_b, lines_b, values_b = _unsharp(ctx)
-    image = plots.caption(
-        plots.grid(rows_a + rows_b, gap=3),
+    image = drawing.caption(
+        drawing.grid(rows_a + rows_b, gap=3),
         ["Fig. 2 on synthetic materials (not from any texture set)", *lines_a, *lines_b],
     )
     text = "; ".join(lines_a + lines_b)

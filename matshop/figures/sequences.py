@@ -34,9 +34,10 @@ from ..api import EditableMaterial
 from ..io.material_io import load_material
 from ..material import Material, Schema
 from ..ops import get_op
-from . import plots
-from .fig_edits import _resized, _swatch, _tilt_deg
-from .figures import FigureContext, FigureResult
+from . import drawing
+from .common import resized, swatch
+from .context import FigureContext, FigureResult
+from .measure import tilt_deg
 
 SIZE = 384
 TILE = 150
@@ -153,8 +154,8 @@ def measure(start: Material, name: str, result: Material, steps: Sequence[Step])
         inside = steps[0][1]["mask"] > 0.99
         albedo = _linear_albedo(result)[inside].mean() / _linear_albedo(start)[inside].mean()
         tilt = (
-            _tilt_deg(result.maps["normal"])[inside].mean()
-            / _tilt_deg(start.maps["normal"])[inside].mean()
+            tilt_deg(result.maps["normal"])[inside].mean()
+            / tilt_deg(start.maps["normal"])[inside].mean()
         )
         return {"albedo": float(albedo), "tilt": float(tilt)}
     if name in ("age", "clean"):
@@ -164,7 +165,7 @@ def measure(start: Material, name: str, result: Material, steps: Sequence[Step])
 
 def fig1(ctx: FigureContext) -> FigureResult:
     material, _ = load_material(ctx.data)
-    material = _resized(material, SIZE)
+    material = resized(material, SIZE)
     rows, values, lines = [], {}, []
     steps_of = sequences(SIZE)
     starts = {"burn": material, "age": material, "clone": material}
@@ -182,10 +183,10 @@ def fig1(ctx: FigureContext) -> FigureResult:
         for space, seq, first in (("edit", edit, edit_start), ("physical", phys, phys_start)):
             got = measure(first, name, seq[-1], steps)
             values |= {f"{name}_{space}_{k}": v for k, v in got.items()}
-            tiles = [_swatch(ctx, m, TILE) for m in [first, *seq]]
+            tiles = [swatch(ctx, m, TILE) for m in [first, *seq]]
             label = [f"{name}", f"in {space} space", ops[:26]]
             label += [f"{k} x{v:.2f}" for k, v in got.items()]
-            rows.append([plots.side_label(plots.grid([tiles], gap=2), label, width=150)])
+            rows.append([drawing.side_label(drawing.grid([tiles], gap=2), label, width=150)])
     diff = np.degrees(
         np.arccos(
             np.clip(
@@ -217,8 +218,8 @@ def fig1(ctx: FigureContext) -> FigureResult:
         f"{values['clone_normal_diff_deg_max']:.2f} deg in normal, "
         f"{values['clone_albedo_diff_max']:.3f} in linear albedo"
     )
-    image = plots.caption(
-        plots.grid(rows, gap=3),
+    image = drawing.caption(
+        drawing.grid(rows, gap=3),
         [
             f"Fig. 1: edit sequences on '{material.name}' ({SIZE}x{SIZE}): each in edit space and"
             " the same ops on the file values (physical).",

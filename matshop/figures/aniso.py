@@ -1,7 +1,7 @@
 """Fig. 7(h): anisotropy controlled by scaling edit values -- the lobe's per axis, then the frames.
 
 The shared chessboard set has neither tangents nor an anisotropic lobe, so
-they are synthesised (:func:`matshop.render.synthetic.with_anisotropy`): a
+they are synthesised (:func:`matshop.figures.synthetic.with_anisotropy`): a
 constant tangent field at ``TANGENT_DEG`` from the texture's ``u`` axis, in the
 normal + tangent frame space, and an Ashikhmin-Shirley lobe ``nu = nv`` with
 the median angle of each texel's GGX lobe. Then, in edit space:
@@ -29,13 +29,14 @@ import numpy as np
 
 from ..io.material_io import load_material
 from ..material import EditMaterial, Material
-from . import plots, scenes
-from .fig_edits import _resized
-from .figures import FigureContext, FigureResult, display
-from .integrator import DirectionalLight
-from .materials import constant
+from ..render import scenes
+from ..render.integrator import DirectionalLight
+from ..render.materials import constant
+from ..render.render import render
+from . import drawing
+from .common import resized
+from .context import FigureContext, FigureResult, display
 from .measure import HighlightShape, highlight_shape
-from .render import render
 from .synthetic import with_anisotropy
 
 TANGENT_DEG = 60.0
@@ -131,7 +132,7 @@ def _crop_tile(energy: np.ndarray, shape: HighlightShape) -> np.ndarray:
 
 def fig7h(ctx: FigureContext) -> FigureResult:
     material, _ = load_material(ctx.data)
-    material = _resized(material, 512)
+    material = resized(material, 512)
     r_median = float(np.median(material.maps["roughness"])) if "roughness" in material.maps else 0.5
     control = constant(64, base_color=(0.2, 0.2, 0.2), roughness=r_median, normal=(0, 0, 1))
     values: dict[str, float] = {}
@@ -142,7 +143,7 @@ def fig7h(ctx: FigureContext) -> FigureResult:
         shown = render(
             mat, scene=ball(BALL), environment=ctx.environment, lights=(LIGHT,), samples=32
         )
-        top.append(plots.caption(display(shown), [label], height=13, scale=0.33))
+        top.append(drawing.caption(display(shown), [label], height=13, scale=0.33))
         shape, energy = measure(mat)
         shape_c, _ = measure(ctl)
         values[f"aspect_{k}"], values[f"angle_{k}"] = shape.aspect, shape.angle_deg
@@ -150,7 +151,7 @@ def fig7h(ctx: FigureContext) -> FigureResult:
         values[f"control_angle_{k}"] = shape_c.angle_deg
         want = "" if expected is None else f" (want {expected:.0f})"
         bottom.append(
-            plots.caption(
+            drawing.caption(
                 _crop_tile(energy, shape),
                 [
                     f"aspect {shape.aspect:.2f}, axis {shape.angle_deg:.0f} deg",
@@ -164,8 +165,8 @@ def fig7h(ctx: FigureContext) -> FigureResult:
             f"{label}: aspect {shape.aspect:.2f} axis {shape.angle_deg:.1f} "
             f"(control {shape_c.aspect:.2f} / {shape_c.angle_deg:.1f})"
         )
-    image = plots.caption(
-        plots.grid([top, bottom], gap=3),
+    image = drawing.caption(
+        drawing.grid([top, bottom], gap=3),
         [
             f"Fig. 7(h): '{material.name}' given a synthetic tangent field ({TANGENT_DEG:g} deg"
             " from u) and an Ashikhmin-Shirley lobe nu = nv of its roughness's median angle.",

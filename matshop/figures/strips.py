@@ -24,13 +24,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..render import scenes
+from ..render.integrator import DirectionalLight
+from ..render.materials import constant
+from ..render.render import render
 from ..spaces import get_space
 from ..spaces.sampled import d_from_ggx
-from . import plots, scenes
-from .figures import FigureContext, FigureResult, display
-from .integrator import DirectionalLight
-from .materials import constant
-from .render import render
+from . import drawing
+from .context import FigureContext, FigureResult, display
 
 STEPS = 7
 BALL = 84
@@ -157,12 +158,12 @@ def fig3(ctx: FigureContext) -> FigureResult:
                 f"{quantity}: R2 = {r2[edit]:.4f}",
                 f"{metric[0]:.3g} .. {metric[-1]:.3g}{unit}",
             ]
-            rows.append([plots.side_label(plots.grid([tiles], gap=0), lines, width=180)])
+            rows.append([drawing.side_label(drawing.grid([tiles], gap=0), lines, width=180)])
         key = param.split("_")[0]
         values[f"{key}_edit_r2"], values[f"{key}_physical_r2"] = r2[True], r2[False]
         summary.append(f"{label} {r2[True]:.3f}/{r2[False]:.3f}")
-    image = plots.caption(
-        plots.grid(rows, gap=3),
+    image = drawing.caption(
+        drawing.grid(rows, gap=3),
         [
             "Fig. 3: linear interpolation between the same two materials, 7 steps,"
             " in edit space (upper row)",

@@ -20,8 +20,8 @@ from ..spaces import get_space
 from ..spaces.fit import FAMILIES, scaling_fit
 from ..spaces.sampled import d_from_ggx, lobe_width, theta_centres
 from ..spaces.subsurface import mean_radius, profile_albedo, profile_burley, radius_centres
-from . import plots
-from .figures import FigureContext, FigureResult
+from . import drawing
+from .context import FigureContext, FigureResult
 
 SCALES = (0.5, 1.5, 3.0)
 
@@ -46,11 +46,11 @@ def _fit_panel(space_name: str, family: str, param: float) -> tuple[np.ndarray, 
         ]
         dashed += [False, True]
     title = f"{space_name}: {fam.parameter}={param:g}"
-    img = plots.line_plot(
+    img = drawing.line_plot(
         series, size=(330, 230), ylim=(0, 1), title=title, xlabel="theta (deg)", dashed=dashed
     )
     worst, fits = fit.worst_all, fit.worst_fits
-    img = plots.caption(
+    img = drawing.caption(
         img,
         [
             f"worst |CDF err| all {worst.error:.3f} "
@@ -76,8 +76,8 @@ def fig5(ctx: FigureContext) -> FigureResult:
         img, worst, fits = _fit_panel(space_name, family, param)
         panels.append(img)
         values[f"{space_name}_worst"], values[f"{space_name}_fits"] = worst, fits
-    image = plots.caption(
-        plots.grid([panels[:2], panels[2:4], panels[4:]], gap=6),
+    image = drawing.caption(
+        drawing.grid([panels[:2], panels[2:4], panels[4:]], gap=6),
         [
             "Fig. 5: scaling the edit value by s vs scaling the lobe's angles by s",
             "(solid: exact c(theta/s), dashed: the family's CDF at the predicted parameter).",
@@ -107,7 +107,7 @@ def fig4(ctx: FigureContext) -> FigureResult:
     twice = space.from_edit((2.0 * e)[None])[0]
     base = lobe_width(original)
     ratios = {s: float(lobe_width(d) / base) for s, d in scaled.items()}
-    left = plots.line_plot(
+    left = drawing.line_plot(
         [(deg, _density_theta(original), "original GGX 0.15")]
         + [(deg, _density_theta(d), f"scaled s={s:g}") for s, d in scaled.items()],
         size=(340, 240),
@@ -122,7 +122,7 @@ def fig4(ctx: FigureContext) -> FigureResult:
     mixed = {t: space.from_edit(((1 - t) * e1 + t * e2)[None])[0] for t in ts}
     w1, w2 = float(lobe_width(d1)), float(lobe_width(d2))
     deviation = max(abs(float(lobe_width(d)) - ((1 - t) * w1 + t * w2)) for t, d in mixed.items())
-    right = plots.line_plot(
+    right = drawing.line_plot(
         [(deg, _density_theta(d1), "original 1 (0.05)")]
         + [(deg, _density_theta(d), f"t={t:g}") for t, d in mixed.items()]
         + [(deg, _density_theta(d2), "original 2 (0.4)")],
@@ -144,8 +144,8 @@ def fig4(ctx: FigureContext) -> FigureResult:
         f"interpolated median angles off linear by <= {np.degrees(deviation):.3f} deg; "
         f"|(x+x) - 2x| / max = {plus:.1e}"
     )
-    image = plots.caption(
-        plots.grid([[left, right]], gap=6),
+    image = drawing.caption(
+        drawing.grid([[left, right]], gap=6),
         [
             "Fig. 4: density over theta, 2 pi d cos sin, of sampled GGX lobes (128 bins)"
             " edited in the",
@@ -170,7 +170,7 @@ def fig6(ctx: FigureContext) -> FigureResult:
     stats = {
         s: (float(profile_albedo(p)) / a0, float(mean_radius(p)) / m0) for s, p in scaled.items()
     }
-    left = plots.line_plot(
+    left = drawing.line_plot(
         [(r, original * r, "original")]
         + [(r, p * r, f"scaled s={s:g}") for s, p in scaled.items()],
         size=(340, 240),
@@ -182,7 +182,7 @@ def fig6(ctx: FigureContext) -> FigureResult:
     p1, p2 = profile_burley(0.3, 0.03), profile_burley(0.8, 0.12)
     e1, e2 = space.to_edit(p1[None])[0], space.to_edit(p2[None])[0]
     mixed = {t: space.from_edit(((1 - t) * e1 + t * e2)[None])[0] for t in (0.25, 0.5, 0.75)}
-    right = plots.line_plot(
+    right = drawing.line_plot(
         [(r, p1 * r, "original 1")]
         + [(r, p * r, f"t={t:g}") for t, p in mixed.items()]
         + [(r, p2 * r, "original 2")],
@@ -197,8 +197,8 @@ def fig6(ctx: FigureContext) -> FigureResult:
     text = "; ".join(
         f"s={s:g}: albedo x{a:.4f}, mean radius x{m:.3f}" for s, (a, m) in stats.items()
     )
-    image = plots.caption(
-        plots.grid([[left, right]], gap=6),
+    image = drawing.caption(
+        drawing.grid([[left, right]], gap=6),
         ["Fig. 6: SubEdit profiles (Burley, 32 bins) scaled and interpolated in edit space.", text],
     )
     return FigureResult("fig6", ctx.save("fig6_subsurface_profiles", image), text, values)
