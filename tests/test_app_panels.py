@@ -8,7 +8,6 @@ import os
 if not os.environ.get("DISPLAY"):
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
-import argparse
 import time
 from pathlib import Path
 
@@ -83,14 +82,14 @@ def test_clicking_a_history_row_jumps_there_and_back(window) -> None:
     assert np.array_equal(doc.flatten_edit(), final)
 
 
-def test_matshop_open_verb_parses_without_importing_qt() -> None:
-    from matshop.app import verbs
+def test_matshop_open_verb_parses_a_path_or_none() -> None:
+    from matshop.cli import build_parser
+    from matshop.cli.verbs import open as open_verb
 
-    parser = argparse.ArgumentParser()
-    verbs.add_parsers(parser.add_subparsers(dest="verb"))
-    args = parser.parse_args(["open", str(SAMPLE)])
-    assert args.verb_module == "matshop.app.verbs" and args.path == SAMPLE
-    assert parser.parse_args(["open"]).path is None
+    argv = ["open", str(SAMPLE)]
+    args = build_parser(argv).parse_args(argv)
+    assert args.run is open_verb.run and args.path == SAMPLE
+    assert build_parser(["open"]).parse_args(["open"]).path is None
 
 
 @pytest.mark.skipif(not CHESSBOARD.is_dir(), reason="../shared/data/chessboard is not present")

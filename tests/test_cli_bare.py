@@ -9,10 +9,10 @@ import matshop.cli as cli
 
 def test_bare_matshop_starts_the_editor_with_a_display(monkeypatch) -> None:
     pytest.importorskip("PySide6")
-    import matshop.app.verbs as app_verbs
+    import matshop.app.launch as launch
 
     started = []
-    monkeypatch.setattr(app_verbs, "start", lambda *a, **k: started.append(a) or 0)
+    monkeypatch.setattr(launch, "start", lambda *a, **k: started.append(a) or 0)
     monkeypatch.setattr(cli, "_has_display", lambda: True)
     assert cli.main([]) == 0
     assert started == [()]

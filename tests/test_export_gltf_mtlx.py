@@ -299,8 +299,8 @@ def test_cli_export_writes_and_summarises(tmp_path: Path, capsys: pytest.Capture
 
 
 def test_cli_offers_every_shading_model() -> None:
+    from matshop.cli.verbs.export import SHADING_MODEL_NAMES
     from matshop.export.mtlx import DEFAULT_SHADING_MODEL, SHADING_MODELS
-    from matshop.export.verbs import SHADING_MODEL_NAMES
 
     assert set(SHADING_MODEL_NAMES) == set(SHADING_MODELS)
     assert SHADING_MODEL_NAMES[0] == DEFAULT_SHADING_MODEL

@@ -1,7 +1,7 @@
 """The desktop editor (Qt): main window, panels, menus, files, settings.
 
 ``from matshop.app import MainWindow`` imports Qt; importing the package
-itself does not (``matshop.app.verbs`` is loaded by ``matshop --help``).
+itself does not.
 """
 
 from __future__ import annotations

@@ -1,56 +1,54 @@
-"""``matshop render`` and ``matshop figures``.
-
-``add_parsers`` imports only the standard library so ``matshop --help`` stays
-fast; ``run`` imports the renderer.
-"""
+"""``matshop render IN OUT``: a texture set on a sphere, a swatch or a mesh, as an image."""
 
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 from typing import Any
 
-VERB_MODULE = "matshop.render.verbs"
+from ...errors import MatshopError
+from ..options import add_load_options, add_output_options, load_options
 
 
-def add_parsers(verbs: Any) -> None:
-    from ..cli import add_load_options  # stdlib only; loaded already when verbs are built
-
-    render = verbs.add_parser(
-        "render",
-        help="render a texture set on a sphere, a swatch or a mesh (PNG)",
-        description="Render the texture set IN with the reference renderer (microfacet "
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.description = (
+        "Render the texture set IN with the reference renderer (microfacet "
         "BRDF with the set's lobe, normal/tangent frames, SubEdit subsurface when the "
-        "set has profiles) under an HDR environment and write a tone-mapped sRGB image.",
-        epilog="examples: matshop render rock/ rock.png --size 512 | "
+        "set has profiles) under an HDR environment and write a tone-mapped sRGB image."
+    )
+    parser.epilog = (
+        "examples: matshop render rock/ rock.png --size 512 | "
         "matshop render rock/ swatch.png --scene swatch | "
         "matshop render rock/ m.png --scene mesh.obj --env sky.exr --light=-1,1,1:3 "
-        "(a leading minus needs the = form)",
+        "(a leading minus needs the = form)"
     )
-    render.add_argument(
+    parser.add_argument(
         "input",
         type=Path,
         metavar="IN",
         help="texture folder, one map, or a .matshop project (flattened)",
     )
-    render.add_argument("output", type=Path, metavar="OUT", help="output image (.png, .exr, ...)")
-    render.add_argument(
+    add_output_options(
+        parser, what="output image (.png, .exr, ...)", force_help="overwrite an existing image"
+    )
+    parser.add_argument(
         "--scene", default="sphere", help="sphere (default), swatch, or a path to an .obj mesh"
     )
-    render.add_argument(
+    parser.add_argument(
         "--env",
         default="studio",
         help="studio (default), sky, uniform, or an equirectangular .hdr/.exr file",
     )
-    render.add_argument("--size", type=int, default=512, help="image size in pixels (512)")
-    render.add_argument(
+    parser.add_argument("--size", type=int, default=512, help="image size in pixels (512)")
+    parser.add_argument(
         "--samples", type=int, default=32, help="environment samples per pixel (32)"
     )
-    render.add_argument("--exposure", type=float, default=0.0, help="exposure in stops (0)")
-    render.add_argument(
+    parser.add_argument("--exposure", type=float, default=0.0, help="exposure in stops (0)")
+    parser.add_argument(
         "--tonemap", choices=("aces", "linear"), default="aces", help="tone curve (aces)"
     )
-    render.add_argument(
+    parser.add_argument(
         "--light",
         action="append",
         default=[],
@@ -58,45 +56,29 @@ def add_parsers(verbs: Any) -> None:
         help="a directional light towards X,Y,Z (camera on +z, y up) with irradiance E "
         "(one value or R,G,B; default 3); repeatable",
     )
-    render.add_argument(
+    parser.add_argument(
         "--no-env", action="store_true", help="directional lights only (no environment light)"
     )
-    render.add_argument(
+    parser.add_argument(
         "--background",
         default="environment",
         help="environment (default), transparent, or R,G,B linear radiance",
     )
-    render.add_argument(
+    parser.add_argument(
         "--tiles", type=float, help="texture repeats (sphere: around the equator; default 2)"
     )
-    render.add_argument("--force", action="store_true", help="overwrite an existing image")
-    add_load_options(render)
-    render.set_defaults(verb_module=VERB_MODULE)
+    add_load_options(parser)
+    parser.set_defaults(run=run)
 
-    figures = verbs.add_parser(
-        "figures",
-        help="reproduce the seed paper's figures with their measurements",
-        description="Render the seed paper's figures (interpolation strips, analytic fits, "
-        "frame blur and unsharp masking, distribution and profile plots, an op gallery) "
-        "into OUTDIR as PNGs, and print the measurement each one makes its point with.",
-    )
-    figures.add_argument("outdir", type=Path, metavar="OUTDIR")
-    figures.add_argument(
-        "--only", help="comma-separated figure names (e.g. fig3,fig5); default: all"
-    )
-    figures.add_argument(
-        "--data",
-        type=Path,
-        help="texture set for the gallery (default: ../shared/data/chessboard if present, "
-        "else the bundled sample)",
-    )
-    figures.set_defaults(verb_module=VERB_MODULE)
+
+def check_number(value: float, option: str, lo: float, hi: float) -> float:
+    """``value`` of a numeric option if finite and within [lo, hi]; else a one-line error."""
+    if not (math.isfinite(value) and lo <= value <= hi):
+        raise MatshopError(f"{option} must be a number from {lo:g} to {hi:g}, got {value:g}")
+    return value
 
 
 def _floats(text: str, what: str) -> list[float]:
-    from ..cli import check_number
-    from ..errors import MatshopError
-
     try:
         values = [float(v) for v in text.split(",")]
     except ValueError:
@@ -106,8 +88,7 @@ def _floats(text: str, what: str) -> list[float]:
 
 def parse_light(text: str):
     """``X,Y,Z[:E]`` or ``X,Y,Z:R,G,B`` -> DirectionalLight."""
-    from ..errors import MatshopError
-    from .integrator import DirectionalLight
+    from ...render.integrator import DirectionalLight
 
     direction, _, energy = text.partition(":")
     xyz = _floats(direction, "--light")
@@ -121,15 +102,13 @@ def parse_light(text: str):
     return DirectionalLight(tuple(xyz), tuple(e * 3 if len(e) == 1 else e))
 
 
-def _cmd_render(args: argparse.Namespace) -> int:
+def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..cli import check_number, load_options
-    from ..errors import MatshopError
-    from ..io.images import write_image
-    from ..io.inputs import load_flattened
-    from ..progress import progress_bar
-    from .render import render
+    from ...io.images import write_image
+    from ...io.inputs import load_flattened
+    from ...progress import progress_bar
+    from ...render.render import render
 
     if args.output.exists() and not args.force:
         raise MatshopError("exists (use --force to overwrite)", args.output)
@@ -189,19 +168,3 @@ def _cmd_render(args: argparse.Namespace) -> int:
         f"{mean[0]:.3f} {mean[1]:.3f} {mean[2]:.3f}"
     )
     return 0
-
-
-def _cmd_figures(args: argparse.Namespace) -> int:
-    from ..figures import make_figures
-
-    only = [name.strip() for name in args.only.split(",")] if args.only else None
-    results = make_figures(args.outdir, only=only, data=args.data)
-    for result in results:
-        print(f"{result.name}: {result.path.name}: {result.measurement}")
-    return 0
-
-
-def run(args: argparse.Namespace) -> int:
-    if args.verb == "render":
-        return _cmd_render(args)
-    return _cmd_figures(args)

@@ -1,8 +1,7 @@
-"""The ``matshop export`` command.
+"""``matshop export IN OUT --preset NAME``: what an engine loads, as a preset says.
 
-Only the standard library is imported at module level: ``matshop --help``
-builds every verb's parser, and numpy/OpenImageIO load only when an export
-actually runs.
+Only the standard library is imported at module level: ``matshop export --help``
+stays fast, and numpy/OpenImageIO load only when an export actually runs.
 """
 
 from __future__ import annotations
@@ -10,7 +9,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-VERB_MODULE = "matshop.export.verbs"
+from ...errors import MatshopError
+from ..options import add_load_options, add_output_options, load_options
+
 #: the choices of --mtlx-shader (mtlx.SHADING_MODELS' names; kept here so --help stays light)
 SHADING_MODEL_NAMES = ("open_pbr_surface", "standard_surface", "gltf_pbr")
 
@@ -32,20 +33,14 @@ examples:
 """
 
 
-def add_parsers(verbs: argparse._SubParsersAction) -> None:
-    from ..cli import add_load_options  # stdlib only; loaded already when verbs are built
-
-    parser = verbs.add_parser(
-        "export",
-        help="write a texture set for an engine (Unreal, Unity, glTF, Godot, raw)",
-        description=_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.description = _DESCRIPTION
+    parser.epilog = _EPILOG
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.add_argument(
         "input", type=Path, nargs="?", metavar="IN", help="texture folder, map or .matshop project"
     )
-    parser.add_argument("output", type=Path, nargs="?", metavar="OUT", help="output folder")
+    add_output_options(parser, optional=True)
     parser.add_argument("--preset", help="built-in preset name (see --list-presets)")
     parser.add_argument(
         "--preset-file", type=Path, help="your own preset, JSON or TOML (Substance-like shape)"
@@ -92,14 +87,12 @@ def add_parsers(verbs: argparse._SubParsersAction) -> None:
         help="fail when the preset needs a parameter the material lacks "
         "(default: fill it with the engine's default and say so)",
     )
-    parser.add_argument("--force", action="store_true", help="overwrite existing files")
     add_load_options(parser)
-    parser.set_defaults(verb_module=VERB_MODULE)
+    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import MatshopError
-    from .presets import builtin_preset_names, load_preset
+    from ...export.presets import builtin_preset_names, load_preset
 
     if args.list_presets:
         for name in builtin_preset_names():
@@ -116,10 +109,9 @@ def run(args: argparse.Namespace) -> int:
         raise MatshopError("--mesh is only used with --glb, --usd or --usdz")
     preset = load_preset(args.preset, path=args.preset_file)
 
-    from ..cli import load_options
-    from ..io.inputs import load_flattened
-    from ..io.normal_convention import convention_line
-    from .core import export_material
+    from ...export.core import export_material
+    from ...io.inputs import load_flattened
+    from ...io.normal_convention import convention_line
 
     material = load_flattened(args.input, **load_options(args))
     summary = export_material(

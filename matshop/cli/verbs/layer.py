@@ -1,139 +1,80 @@
-"""What the project verbs do (parsing lives in :mod:`matshop.project_verbs`)."""
+"""``matshop layer add|list|set|remove PROJECT ...``: edit a project's layer stack."""
 
 from __future__ import annotations
 
 import argparse
-import re
-import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from .errors import MatshopError, naming
-from .io.project import find_recovery, load_project, save_project
-from .layers import AddLayer, Document, History, Layer, RemoveLayer, SetMask, SetProperty
-from .layers.layer import PaintLayer
-from .material import Schema
-from .paint import Swatch
-from .paint.painter import StrokeSession
-from .paint.strokefile import load_strokes
-
-MAX_SIDE = 65536
+from ...errors import MatshopError
+from ...io.project import save_project
+from ...layers import AddLayer, Document, RemoveLayer, SetMask, SetProperty
+from ...layers.layer import PaintLayer
+from ...paint import Swatch
+from ..project import about_project, find_layer, names, open_project
 
 
-def run(args: argparse.Namespace) -> int:
-    handlers = {
-        "new": cmd_new,
-        "layer-add": cmd_layer_add,
-        "layer-list": cmd_layer_list,
-        "layer-set": cmd_layer_set,
-        "layer-remove": cmd_layer_remove,
-        "paint": cmd_paint,
-        "flatten": cmd_flatten,
-        "recover": cmd_recover,
-    }
-    with naming(args.project):  # every message names the project it is about
-        return handlers[args.action](args)
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.description = "Edit the layer stack of a project."
+    actions = parser.add_subparsers(dest="layer_action", metavar="ACTION", required=True)
+    add = actions.add_parser(
+        "add",
+        help="add a paint, fill, filter or group layer on top (or at --index, or into --group)",
+        epilog="examples: layer add p.matshop fill --value base_color=0.6,0.25,0.1 "
+        "--value roughness=0.8 | layer add p.matshop fill --from rust/ --mask m.png | "
+        "layer add p.matshop filter --op bilateral sigma_px=6 | layer add p.matshop paint",
+    )
+    add.add_argument("project", type=Path, metavar="PROJECT")
+    add.add_argument("kind", choices=("paint", "fill", "filter", "group"))
+    add.add_argument("--name")
+    add.add_argument("--opacity", type=float)
+    add.add_argument("--blend", help="normal, add, subtract, multiply or detail")
+    add.add_argument("--params", help="parameters the layer affects (default: all)")
+    add.add_argument("--hidden", action="store_true", help="add it hidden")
+    add.add_argument("--index", type=int, help="stack position (0 = bottom; default: top)")
+    add.add_argument("--group", help="put it into this group (just below the group layer)")
+    add.add_argument(
+        "--value",
+        action="append",
+        default=[],
+        metavar="PARAM=V[,V...]",
+        help="fill: a constant physical value (repeatable), e.g. roughness=0.8",
+    )
+    add.add_argument("--from", dest="source", type=Path, help="fill: a texture set")
+    add.add_argument(
+        "--op", nargs="+", metavar=("NAME", "KEY=VALUE"), help="filter: the op and its parameters"
+    )
+    add.add_argument("--mask", type=Path, help="grayscale image as the layer's mask")
+    add.add_argument(
+        "--mask-generator",
+        nargs="+",
+        metavar=("NAME", "KEY=VALUE"),
+        help="a mask generated from the material's normals as they are when the layer is "
+        "added: cavity, edge or ao, with radius_px (4), level (0.5), contrast (1), "
+        "blur_px (0), invert (false); e.g. --mask-generator cavity radius_px=6 contrast=2",
+    )
+    add.set_defaults(run=cmd_layer_add)
 
+    listing = actions.add_parser("list", help="list the layers, bottom to top")
+    listing.add_argument("project", type=Path, metavar="PROJECT")
+    listing.set_defaults(run=cmd_layer_list)
 
-def _names(text: str | None) -> list[str] | None:
-    return None if text is None else [n.strip() for n in text.split(",") if n.strip()]
+    change = actions.add_parser(
+        "set",
+        help="change layer properties: name, visible, opacity, blend, parameters",
+        epilog="example: layer set p.matshop Rust opacity=0.5 blend=multiply visible=false",
+    )
+    change.add_argument("project", type=Path, metavar="PROJECT")
+    change.add_argument("layer", metavar="LAYER", help="layer name or id")
+    change.add_argument("settings", nargs="+", metavar="KEY=VALUE")
+    change.set_defaults(run=cmd_layer_set)
 
-
-def _size(text: str) -> tuple[int, int]:
-    match = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
-    if not match:
-        raise MatshopError(f"--size expects WIDTHxHEIGHT, got {text!r}")
-    width, height = int(match[1]), int(match[2])
-    if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
-        raise MatshopError(f"--size must be 1 to {MAX_SIDE} texels per side, got {text}")
-    return height, width
-
-
-def cmd_new(args: argparse.Namespace) -> int:
-    path: Path = args.project
-    if path.exists() and not args.force:
-        raise MatshopError("already exists (use --force to overwrite)", path)
-    _refuse_to_replace_autosave(path)
-    if args.source is not None:
-        from .io.material_io import load_material
-
-        if args.size or args.params:
-            raise MatshopError("--size and --params are for empty documents, not with --from")
-        from .cli import load_options
-
-        material, _ = load_material(args.source, **load_options(args))
-        doc = Document.from_material(material)
-    else:
-        if not args.size or not args.params:
-            raise MatshopError("give --from TEXTURE_SET, or --size and --params for an empty one")
-        try:
-            schema = Schema.from_names(_names(args.params) or [])
-        except (KeyError, ValueError) as exc:
-            raise MatshopError(f"--params: {exc}") from None
-        height, width = _size(args.size)
-        doc = Document(schema, height, width, name=path.name.split(".")[0])
-    save_project(doc, path)
-    print(f"created {path}: {doc.width}x{doc.height}, {', '.join(doc.schema.names)}")
-    return 0
-
-
-def _refuse_to_replace_autosave(path: Path) -> None:
-    """A save removes the project's autosave: never do that to one newer than the project."""
-    recovery = find_recovery(path)
-    if recovery is not None:
-        raise MatshopError(
-            f"has a newer autosave ({recovery.name}) that saving would discard: "
-            f"`matshop recover {path}` restores it, or delete it to discard it",
-            path,
-        )
-
-
-def _open(path: Path, *, for_writing: bool = True) -> tuple[Document, History, dict]:
-    """Load a project; a verb that will save it first makes sure no autosave is lost."""
-    if for_writing:
-        _refuse_to_replace_autosave(path)
-    project = load_project(path)
-    recovery = None if for_writing else find_recovery(path)
-    if recovery is not None:
-        print(
-            f"matshop: note: {path} has a newer autosave ({recovery.name}); "
-            f"`matshop recover {path}` restores it",
-            file=sys.stderr,
-        )
-    return project.document, History(project.document), project.settings
-
-
-def cmd_recover(args: argparse.Namespace) -> int:
-    recovery = find_recovery(args.project)
-    if recovery is None:
-        raise MatshopError("has no autosave newer than itself", args.project)
-    project = load_project(recovery)  # a damaged autosave fails here, the project untouched
-    save_project(project.document, args.project, settings=project.settings)  # discards it
-    print(f"restored {args.project} from {recovery.name}")
-    return 0
-
-
-def find_layer(doc: Document, key: str | int, path: Path | None = None) -> Layer:
-    """A layer by name, or by id (a number that is no layer's name)."""
-    if isinstance(key, str):
-        named = [layer for layer in doc if layer.name == key]
-        if len(named) == 1:
-            return named[0]
-        if len(named) > 1:
-            raise MatshopError(f"{len(named)} layers are named {key!r}: use the id", path)
-        if not key.isdigit():
-            raise MatshopError(f"no layer named {key!r} ({_layer_names(doc)})", path)
-    layer_id = int(key)
-    for layer in doc:
-        if layer.id == layer_id:
-            return layer
-    raise MatshopError(f"no layer with id {layer_id} ({_layer_names(doc)})", path)
-
-
-def _layer_names(doc: Document) -> str:
-    return "layers: " + (", ".join(f"{layer.id} {layer.name!r}" for layer in doc) or "none")
+    remove = actions.add_parser("remove", help="remove a layer")
+    remove.add_argument("project", type=Path, metavar="PROJECT")
+    remove.add_argument("layer", metavar="LAYER", help="layer name or id")
+    remove.set_defaults(run=cmd_layer_remove)
 
 
 def _fill_from_values(doc: Document, pairs: Sequence[str]) -> tuple[np.ndarray, list[str]]:
@@ -154,7 +95,7 @@ def _fill_from_values(doc: Document, pairs: Sequence[str]) -> tuple[np.ndarray, 
 
 
 def _fill_from_set(doc: Document, source: Path) -> tuple[np.ndarray, list[str]]:
-    from .io.material_io import load_material
+    from ...io.material_io import load_material
 
     material, _ = load_material(source)
     if material.size != doc.size:
@@ -173,17 +114,18 @@ def _fill_from_set(doc: Document, source: Path) -> tuple[np.ndarray, list[str]]:
     return data, shared
 
 
+@about_project
 def cmd_layer_add(args: argparse.Namespace) -> int:
-    from .ops import get_op
+    from ...ops import get_op
 
-    doc, history, settings = _open(args.project)
+    doc, history, settings = open_project(args.project)
     props: dict = {}
     for key in ("opacity", "blend"):
         if getattr(args, key) is not None:
             props[key] = getattr(args, key)
     if args.hidden:
         props["visible"] = False
-    parameters = _names(args.params)
+    parameters = names(args.params)
     misplaced = {
         "--value": args.value and args.kind != "fill",
         "--from": args.source is not None and args.kind != "fill",
@@ -237,7 +179,7 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
         generated = _generated_mask(doc, args.mask_generator, args.project)
     history.push(AddLayer(layer, index))
     if args.mask is not None:
-        from .api import load_mask
+        from ...api import load_mask
 
         history.push(SetMask(layer.id, doc.new_mask(array=load_mask(args.mask, doc.size))))
     if generated is not None:
@@ -265,7 +207,7 @@ def _boolean(name: str, text: str) -> bool:
 
 def _generated_mask(doc: Document, words: Sequence[str], project: Path) -> np.ndarray:
     """The --mask-generator mask (H, W) from the document's normals as they are now."""
-    from .ops.generators import GENERATORS, generate_mask
+    from ...ops.generators import GENERATORS, generate_mask
 
     name, *pairs = words
     if name not in GENERATORS:
@@ -295,9 +237,15 @@ def _generated_mask(doc: Document, words: Sequence[str], project: Path) -> np.nd
         raise MatshopError(f"--mask-generator: {exc}") from None
 
 
+@about_project
 def cmd_layer_list(args: argparse.Namespace) -> int:
-    doc, _, _ = _open(args.project, for_writing=False)
-    print(f"{args.project}: {doc.width}x{doc.height}, {', '.join(doc.schema.names)}")
+    return list_layers(args.project)
+
+
+def list_layers(project: Path) -> int:
+    """Print the project's size, parameters and layers, bottom to top."""
+    doc, _, _ = open_project(project, for_writing=False)
+    print(f"{project}: {doc.width}x{doc.height}, {', '.join(doc.schema.names)}")
     for index, layer in enumerate(doc):
         facts = [layer.kind, f"opacity {layer.opacity:g}", layer.blend]
         if not layer.visible:
@@ -325,12 +273,13 @@ def _property_value(name: str, text: str) -> object:
         except ValueError:
             raise MatshopError(f"opacity must be a number, got {text!r}") from None
     if name == "parameters":
-        return None if text.lower() in ("all", "") else _names(text)
+        return None if text.lower() in ("all", "") else names(text)
     return text
 
 
+@about_project
 def cmd_layer_set(args: argparse.Namespace) -> int:
-    doc, history, settings = _open(args.project)
+    doc, history, settings = open_project(args.project)
     layer = find_layer(doc, args.layer, args.project)
     for pair in args.settings:
         name, sep, text = pair.partition("=")
@@ -349,56 +298,11 @@ def cmd_layer_set(args: argparse.Namespace) -> int:
     return 0
 
 
+@about_project
 def cmd_layer_remove(args: argparse.Namespace) -> int:
-    doc, history, settings = _open(args.project)
+    doc, history, settings = open_project(args.project)
     layer = find_layer(doc, args.layer, args.project)
     history.push(RemoveLayer(layer.id))
     save_project(doc, args.project, settings=settings)
     print(f"removed layer {layer.id} {layer.name!r}")
-    return 0
-
-
-def cmd_paint(args: argparse.Namespace) -> int:
-    strokes = load_strokes(args.stroke)  # a bad stroke file fails before the project is read
-    doc, history, settings = _open(args.project)
-    default = find_layer(doc, args.layer, args.project) if args.layer else None
-    if default is None:
-        painted = [layer for layer in doc if isinstance(layer, PaintLayer)]
-        default = painted[-1] if painted else None
-    total = 0
-    for number, stroke in enumerate(strokes, 1):
-        if stroke.layer is not None:
-            layer = find_layer(doc, stroke.layer, args.stroke)
-        elif default is not None:
-            layer = default
-        else:
-            raise MatshopError(
-                "no paint layer: add one with `matshop layer add PROJECT paint`", args.project
-            )
-        try:
-            session = StrokeSession(doc, layer.id, stroke.brush, history=history, **stroke.options)
-        except ValueError as exc:
-            raise MatshopError(f"stroke {number}: {exc}", args.stroke) from None
-        if session.note:
-            print(f"stroke {number}: {session.note}")
-            if stroke.layer is None:  # later strokes go where this one went
-                default = doc.layer(session.layer_id)
-        session.add(stroke.samples)
-        session.end()
-        total += session.dabs
-    save_project(doc, args.project, settings=settings)
-    print(f"painted {len(strokes)} stroke(s), {total} dabs, into {args.project}")
-    return 0
-
-
-def cmd_flatten(args: argparse.Namespace) -> int:
-    from .io.material_io import save_material
-    from .progress import progress_bar
-
-    doc, _, _ = _open(args.project, for_writing=False)
-    material = doc.flatten_physical()
-    with progress_bar("writing") as report:
-        written = save_material(material, args.output, overwrite=args.force, progress=report)
-    for path in written:
-        print(f"wrote {path}")
     return 0

@@ -1,12 +1,13 @@
-"""The ``matshop batch`` command (only the standard library at import: ``--help`` stays fast)."""
+"""``matshop batch RECIPE INPUT... OUT``: a recipe over a library, on Dask.
+
+Only the standard library at import: ``matshop batch --help`` stays fast.
+"""
 
 from __future__ import annotations
 
 import argparse
 import sys
 from pathlib import Path
-
-VERB_MODULE = "matshop.batch.verbs"
 
 _DESCRIPTION = """\
 Apply RECIPE to every texture set under the INPUT folders (searched recursively;
@@ -36,14 +37,10 @@ examples:
 """
 
 
-def add_parsers(verbs: argparse._SubParsersAction) -> None:
-    parser = verbs.add_parser(
-        "batch",
-        help="apply a recipe to every texture set of a library, on Dask",
-        description=_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.description = _DESCRIPTION
+    parser.epilog = _EPILOG
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.add_argument("recipe", type=Path, metavar="RECIPE", help="TOML recipe")
     parser.add_argument(
         "inputs",
@@ -67,14 +64,14 @@ def add_parsers(verbs: argparse._SubParsersAction) -> None:
         "--resume", action="store_true", help="skip sets the report in OUT lists as done"
     )
     parser.add_argument("--force", action="store_true", help="overwrite existing files")
-    parser.set_defaults(verb_module=VERB_MODULE)
+    parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
-    from ..errors import MatshopError
-    from .runner import run_batch
+    from ...batch.runner import run_batch
+    from ...errors import MatshopError
 
     inputs = list(args.inputs)
     out = args.out

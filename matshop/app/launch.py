@@ -1,0 +1,25 @@
+"""Start the editor: what ``matshop open [PATH]`` and a bare ``matshop`` run."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def start(path: Path | None = None, argv: list[str] | None = None) -> int:
+    """Run the editor until its window closes; returns the exit status."""
+    import sys
+
+    from PySide6.QtWidgets import QApplication
+
+    from .main_window import MainWindow
+    from .theme import apply_theme
+
+    app = QApplication.instance() or QApplication(argv if argv is not None else sys.argv[:1])
+    app.setApplicationName("matshop")
+    app.setOrganizationName("matshop")
+    apply_theme(app)
+    window = MainWindow()
+    window.show()
+    if path is not None:
+        window.open_path(path)
+    return int(app.exec())

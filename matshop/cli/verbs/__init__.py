@@ -1,0 +1,1 @@
+"""One module per ``matshop`` verb (listed in :mod:`matshop.cli.registry`)."""
