@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import InvalidValue, UnknownName
 from .spaces import Space, get_space
 
 #: Called with (rows done, rows total) during long conversions.
@@ -98,7 +99,7 @@ class Schema:
         self.parameters: tuple[Parameter, ...] = tuple(parameters)
         names = [p.name for p in self.parameters]
         if len(set(names)) != len(names):
-            raise ValueError(f"duplicate parameter names in schema: {names}")
+            raise InvalidValue(f"duplicate parameter names in schema: {names}")
         self.edit_slices: dict[str, slice] = {}
         start = 0
         for param in self.parameters:
@@ -116,7 +117,7 @@ class Schema:
             kind = PARAMETER_KINDS.get(name)
             space_name = spaces.get(name) or (kind.default_space if kind else None)
             if space_name is None:
-                raise KeyError(f"unknown parameter {name!r}: give its editing space explicitly")
+                raise UnknownName(f"unknown parameter {name!r}: give its editing space explicitly")
             params.append(Parameter(name, get_space(space_name)))
         return cls(params)
 
@@ -124,7 +125,7 @@ class Schema:
         for param in self.parameters:
             if param.name == name:
                 return param
-        raise KeyError(f"no parameter {name!r} in this material (has: {', '.join(self.names)})")
+        raise UnknownName(f"no parameter {name!r} in this material (has: {', '.join(self.names)})")
 
     def __contains__(self, name: object) -> bool:
         return name in self.edit_slices
@@ -170,14 +171,14 @@ class Material:
     def __post_init__(self) -> None:
         missing = [n for n in self.schema.names if n not in self.maps]
         if missing:
-            raise ValueError(f"material {self.name!r} lacks maps for {missing}")
+            raise InvalidValue(f"material {self.name!r} lacks maps for {missing}")
         shapes = {n: self.maps[n].shape[:2] for n in self.schema.names}
         if len(set(shapes.values())) > 1:
-            raise ValueError(f"material {self.name!r}: maps differ in size: {shapes}")
+            raise InvalidValue(f"material {self.name!r}: maps differ in size: {shapes}")
         for param in self.schema.parameters:
             arr = self.maps[param.name]
             if arr.ndim != 3 or arr.shape[2] != param.phys_channels:
-                raise ValueError(
+                raise InvalidValue(
                     f"material {self.name!r}: {param.name} needs (H, W, {param.phys_channels}),"
                     f" got {arr.shape}"
                 )

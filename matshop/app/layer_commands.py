@@ -2,19 +2,19 @@
 
 Each method builds the edit the engine defines (AddLayer, RemoveLayer,
 MoveLayer, SetProperty, SetMask, or several as one CompoundEdit) and pushes
-it through the session; engine refusals (ValueError, MatshopError) become a
-status message and change nothing.
+it through the session; an engine refusal (a MatshopError) becomes a status
+message and changes nothing.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from functools import cache
-from typing import Any
+from typing import Any, TypeVar
 
 from PySide6.QtCore import QObject, Signal
 
-from ..errors import MatshopError
+from ..errors import InvalidValue, MatshopError
 from ..layers import (
     AddLayer,
     CompoundEdit,
@@ -33,6 +33,8 @@ from ..layers.filters import bind_filter
 from ..ops import all_ops
 from ..paint import Swatch
 from .session import DocumentSession
+
+T = TypeVar("T")
 
 
 @cache
@@ -59,13 +61,21 @@ class LayerCommands(QObject):
         self.session = session
         self.swatch = swatch
 
-    def _push(self, edit: Edit, *, merge: bool = False) -> bool:
+    def _attempt(self, action: Callable[..., T], *args: Any, **kwargs: Any) -> T | None:
+        """``action(...)``; None, with the engine's one-line refusal as the message,
+        when it refuses (the one place these commands catch errors)."""
         try:
-            self.session.push(edit, merge=merge)
-        except (ValueError, MatshopError) as exc:
+            return action(*args, **kwargs)
+        except MatshopError as exc:
             self.message.emit(str(exc))
-            return False
-        return True
+            return None
+
+    def _push(self, edit: Edit, *, merge: bool = False) -> bool:
+        def push() -> bool:
+            self.session.push(edit, merge=merge)
+            return True
+
+        return self._attempt(push) is not None
 
     def _above_active(self) -> int | None:
         doc, active = self.session.doc, self.session.active_layer_id
@@ -88,14 +98,16 @@ class LayerCommands(QObject):
         doc = self.session.doc
         if doc is None:
             return None
-        try:
+
+        def fill() -> Layer:
             swatch = self.swatch()
             vector, _ = swatch.edit_values(doc.schema)
-            layer = doc.new_fill_layer(
+            return doc.new_fill_layer(
                 f"Fill {swatch.name}", value=vector, parameters=swatch.parameters
             )
-        except (ValueError, MatshopError) as exc:
-            self.message.emit(str(exc))
+
+        layer = self._attempt(fill)
+        if layer is None:
             return None
         return layer.id if self._push(AddLayer(layer, self._above_active())) else None
 
@@ -104,10 +116,8 @@ class LayerCommands(QObject):
         doc = self.session.doc
         if doc is None:
             return None
-        try:
-            layer = doc.new_filter_layer(op, op_params=params)
-        except (ValueError, MatshopError) as exc:
-            self.message.emit(str(exc))
+        layer = self._attempt(doc.new_filter_layer, op, op_params=params)
+        if layer is None:
             return None
         return layer.id if self._push(AddLayer(layer, self._above_active())) else None
 
@@ -116,10 +126,8 @@ class LayerCommands(QObject):
         doc, layer = self.session.doc, self.session.active_layer
         if doc is None or layer is None:
             return None
-        try:
-            twin = _duplicate(doc, layer)
-        except (ValueError, MatshopError) as exc:
-            self.message.emit(str(exc))
+        twin = self._attempt(_duplicate, doc, layer)
+        if twin is None:
             return None
         return twin.id if self._push(AddLayer(twin, doc.index_of(layer.id) + 1)) else None
 
@@ -256,9 +264,9 @@ def _duplicate(doc, layer: Layer) -> Layer:
     elif isinstance(layer, FilterLayer):
         twin = doc.new_filter_layer(layer.op, name, op_params=dict(layer.op_params), **props)
     elif isinstance(layer, GroupLayer):
-        raise ValueError("duplicate a group's layers one by one (groups copy no members)")
+        raise InvalidValue("duplicate a group's layers one by one (groups copy no members)")
     else:  # pragma: no cover - new kinds must be taught here
-        raise ValueError(f"cannot duplicate a {layer.kind} layer")
+        raise InvalidValue(f"cannot duplicate a {layer.kind} layer")
     if layer.mask is not None:
         twin.mask = layer.mask.copy()  # the new layer is not in the document yet
     return twin

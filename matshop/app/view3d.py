@@ -40,6 +40,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from ..errors import MatshopError
 from ..tools.painting import MASK_HIDE
 from .prompts import Prompts
 
@@ -168,7 +169,7 @@ def _viewport_class() -> type:
                 self.camera_moved = True  # an orbit or a pan
             try:
                 super().mousePressEvent(event)
-            except ValueError as exc:  # the engine's sentence (swatch vs layer...)
+            except MatshopError as exc:  # the engine's sentence (swatch vs layer...)
                 self.painter.stroke = None
                 self.dock.message(str(exc))
 
@@ -373,7 +374,7 @@ class View3DDock(QDockWidget):
             if mode == "paint":
                 try:
                     swatch = host.swatch()
-                except ValueError as exc:
+                except MatshopError as exc:
                     self.message(str(exc))
                     return None
             layer_id = host.stroke_layer(

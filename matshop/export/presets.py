@@ -50,7 +50,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ..errors import MatshopError
+from ..errors import InvalidValue, MatshopError, naming
 from ..io.guard import read_input_file
 from ..io.jsonfile import MAX_JSON_BYTES, bounded_int
 from ..io.safe_names import file_name_problem, safe_stem
@@ -217,72 +217,69 @@ def _decode(text: bytes, file: Path) -> dict[str, Any]:
 
 def parse_preset(data: dict[str, Any], *, origin: str = "built-in") -> Preset:
     """Validate a decoded preset and build its :class:`Preset`."""
-    where = None if origin == "built-in" else origin
+    with naming(None if origin == "built-in" else origin, what=f"preset {data.get('name', '?')!r}"):
+        return _parse_preset(data, origin)
 
-    def fail(problem: str) -> MatshopError:
-        return MatshopError(f"preset {data.get('name', '?')!r}: {problem}", where)
 
+def _parse_preset(data: dict[str, Any], origin: str) -> Preset:
     name = data.get("name")
     if not isinstance(name, str) or not name:
-        raise fail("needs a non-empty string 'name'")
+        raise InvalidValue("needs a non-empty string 'name'")
     convention = str(data.get("normalConvention", "opengl")).lower()
     if convention not in _CONVENTIONS:
-        raise fail(f"normalConvention must be opengl or directx, got {convention!r}")
+        raise InvalidValue(f"normalConvention must be opengl or directx, got {convention!r}")
     template = data.get("fileName", "{material}_{channel}.{ext}")
     maps = data.get("maps")
     if not isinstance(maps, list) or not maps:
-        raise fail("needs a non-empty list 'maps'")
+        raise InvalidValue("needs a non-empty list 'maps'")
     if len(maps) > MAX_MAPS:  # each is a file to pack and write
-        raise fail(f"has {len(maps)} maps, more than {MAX_MAPS}")
+        raise InvalidValue(f"has {len(maps)} maps, more than {MAX_MAPS}")
     outputs = []
     for index, entry in enumerate(maps):
         if not isinstance(entry, dict):
-            raise fail(f"maps[{index}] must be a table")
-        try:
+            raise InvalidValue(f"maps[{index}] must be a table")
+        with naming(what=f"map {entry.get('channel', index)!r}"):
             outputs.append(_parse_output(entry, template))
-        except ValueError as exc:
-            label = entry.get("channel", index)
-            raise fail(f"map {label!r}: {exc}") from None
     files = [o.file_for("m", name) for o in outputs]
     if len(set(files)) != len(files):
-        raise fail("two maps would write the same file name")
+        raise InvalidValue("two maps would write the same file name")
     return Preset(name, str(data.get("description", "")), convention, tuple(outputs), origin)
 
 
 def _parse_output(entry: dict[str, Any], default_template: str) -> OutputSpec:
     channel = entry.get("channel")
     if not isinstance(channel, str) or not re.fullmatch(r"[A-Za-z0-9_\-][A-Za-z0-9_.\-]*", channel):
-        raise ValueError("needs a 'channel' name of letters, digits, _ . - (not leading .)")
+        raise InvalidValue("needs a 'channel' name of letters, digits, _ . - (not leading .)")
     template = str(entry.get("fileName", default_template))
     _check_template(template)
     fmt = str(entry.get("fileFormat", "png")).lower()
     fmt = _FORMAT_ALIASES.get(fmt, fmt)
     if fmt not in FORMATS:
-        raise ValueError(f"fileFormat {fmt!r} is not one of {', '.join(FORMATS)}")
+        raise InvalidValue(f"fileFormat {fmt!r} is not one of {', '.join(FORMATS)}")
     _, depths, counts = FORMATS[fmt]
     depth = _BIT_DEPTHS.get(str(entry.get("bitDepth", depths[0])).lower())
     if depth not in depths:
-        raise ValueError(f"{fmt} cannot hold bitDepth {entry.get('bitDepth')!r}; use {depths}")
+        raise InvalidValue(f"{fmt} cannot hold bitDepth {entry.get('bitDepth')!r}; use {depths}")
     color_space = str(entry.get("colorSpace", "srgb")).lower()
     if color_space not in _COLOR_SPACES:
-        raise ValueError(f"colorSpace must be srgb or linear, got {color_space!r}")
+        raise InvalidValue(f"colorSpace must be srgb or linear, got {color_space!r}")
     whole = entry.get("srcMapName")
     raw_channels = entry.get("channels")
     if (whole is None) == (raw_channels is None):
-        raise ValueError("give either 'srcMapName' (a whole parameter) or 'channels'")
+        raise InvalidValue("give either 'srcMapName' (a whole parameter) or 'channels'")
     channels = None
     if raw_channels is not None:
         if not isinstance(raw_channels, list) or not raw_channels:
-            raise ValueError("'channels' must be a non-empty list")
+            raise InvalidValue("'channels' must be a non-empty list")
         channels = tuple(_parse_channel(c) for c in raw_channels)
         dests = sorted(c.dest for c in channels)
         if dests != list(range(len(dests))):
-            raise ValueError(f"destChannel must fill R, G, B, A from R without gaps, got {dests}")
+            raise InvalidValue(f"destChannel must fill R, G, B, A from R without gaps, got {dests}")
         if counts is not None and len(dests) not in counts:
-            raise ValueError(f"{fmt} cannot hold {len(dests)} channels")
+            raise InvalidValue(f"{fmt} cannot hold {len(dests)} channels")
         channels = tuple(sorted(channels, key=lambda c: c.dest))
     elif not isinstance(whole, str) or not whole:
-        raise ValueError("'srcMapName' must be a parameter name")
+        raise InvalidValue("'srcMapName' must be a parameter name")
     return OutputSpec(
         channel=channel,
         file_name=template,
@@ -303,22 +300,22 @@ def _flag(entry: dict[str, Any], key: str, default: bool) -> bool:
         return value
     if isinstance(value, str) and value.strip().lower() in ("true", "false"):
         return value.strip().lower() == "true"
-    raise ValueError(f"{key!r} must be true or false, got {str(value)[:40]!r}")
+    raise InvalidValue(f"{key!r} must be true or false, got {str(value)[:40]!r}")
 
 
 def _parse_channel(entry: Any) -> ChannelSpec:
     if not isinstance(entry, dict):
-        raise ValueError("each channel must be a table")
+        raise InvalidValue("each channel must be a table")
     dest = _channel_index(entry.get("destChannel"), "destChannel")
     source = entry.get("srcMapName")
     value = entry.get("value", entry.get("default"))
     if value is not None and (isinstance(value, bool) or not isinstance(value, int | float)):
-        raise ValueError(f"value/default must be a number, got {value!r}")
+        raise InvalidValue(f"value/default must be a number, got {value!r}")
     if source is None and "value" not in entry:
-        raise ValueError(f"channel {entry.get('destChannel')}: give 'srcMapName' or 'value'")
+        raise InvalidValue(f"channel {entry.get('destChannel')}: give 'srcMapName' or 'value'")
     transform = str(entry.get("transform", "none")).lower()
     if transform not in _TRANSFORMS:
-        raise ValueError(f"transform must be one of {_TRANSFORMS}, got {transform!r}")
+        raise InvalidValue(f"transform must be one of {_TRANSFORMS}, got {transform!r}")
     return ChannelSpec(
         dest=dest,
         source=None if source is None else str(source),
@@ -333,22 +330,22 @@ def _channel_index(value: Any, what: str) -> int:
         return value
     if isinstance(value, str) and value.upper() in _CHANNEL_LETTERS:
         return _CHANNEL_LETTERS[value.upper()]
-    raise ValueError(f"{what} must be R, G, B, A (or an index), got {value!r}")
+    raise InvalidValue(f"{what} must be R, G, B, A (or an index), got {value!r}")
 
 
 def _check_template(template: str) -> None:
     unknown = set(_TEMPLATE_TOKEN.findall(template)) - _TEMPLATE_FIELDS
     if unknown:
-        raise ValueError(
+        raise InvalidValue(
             f"fileName {template!r} uses unknown fields {sorted(unknown)}; "
             f"known: {', '.join('{' + f + '}' for f in sorted(_TEMPLATE_FIELDS))}"
         )
     try:
         example = template.format(material="m", channel="c", ext="png", preset="p")
     except (ValueError, IndexError, KeyError, AttributeError) as exc:
-        raise ValueError(f"fileName {template[:60]!r} is not a valid template ({exc})") from None
+        raise InvalidValue(f"fileName {template[:60]!r} is not a valid template ({exc})") from None
     problem = file_name_problem(example)
     if problem is not None or example.startswith("."):
-        raise ValueError(f"fileName {template[:60]!r} must make a plain file name")
+        raise InvalidValue(f"fileName {template[:60]!r} must make a plain file name")
     if "{ext}" not in template and not re.search(r"\.[A-Za-z]+$", template):
-        raise ValueError(f"fileName {template!r} needs an extension or {{ext}}")
+        raise InvalidValue(f"fileName {template!r} needs an extension or {{ext}}")

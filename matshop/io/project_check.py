@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import MatshopError
+from ..errors import InvalidValue, MatshopError
 from ..layers import BLEND_MODES
 from ..layers.geometry import TileKey, TileLayout
 from ..material import Parameter, Schema
@@ -328,7 +328,7 @@ def _parse_schema(value: Any) -> Schema:
         params.append(Parameter(name, space))
     try:
         schema = Schema(params)
-    except ValueError as exc:
+    except InvalidValue as exc:
         raise FormatProblem(f"schema: {exc}") from None
     if schema.edit_width >= MAX_CHANNELS:
         raise FormatProblem(f"schema has {schema.edit_width} edit channels, over {MAX_CHANNELS}")

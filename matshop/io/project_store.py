@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import MatshopError
+from ..errors import MatshopError, naming
 from ..layers import Document, Layer
 from ..layers.tiles import TileGrid, freeze
 from ..memory import require_memory
@@ -342,11 +342,9 @@ def _build(spec: ManifestSpec, arrays: dict[str, np.ndarray], path: Path) -> Doc
         name=spec.name,
         sources=spec.sources,
     )
-    try:
+    # checked above; this catches a layer rule the checks do not mirror
+    with naming(path, what="damaged or invalid project"):
         layers = [_layer(doc, layer, arrays) for layer in spec.layers]
-    except (ValueError, MatshopError) as exc:  # checked above; a layer rule we do not mirror
-        problem = exc.problem if isinstance(exc, MatshopError) else str(exc)
-        raise MatshopError(f"damaged or invalid project: {problem}", path) from None
     for layer in layers:
         doc.insert_layer(layer)  # new layers made later get ids above the loaded ones
     return doc

@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from ..errors import InvalidValue
+
 _NORMAL, _ADD, _SUBTRACT, _MULTIPLY, _DETAIL = range(5)
 
 
@@ -64,7 +66,9 @@ def get_blend_mode(name: str) -> BlendMode:
     try:
         return BLEND_MODES[name]
     except KeyError:
-        raise ValueError(f"unknown blend mode {name!r} (known: {', '.join(BLEND_MODES)})") from None
+        raise InvalidValue(
+            f"unknown blend mode {name!r} (known: {', '.join(BLEND_MODES)})"
+        ) from None
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -21,6 +21,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..errors import InvalidValue
 from ..material import EditMaterial, Material, Schema
 from ..memory import require_memory
 from .compositor import Compositor
@@ -156,7 +157,7 @@ class Document:
     ) -> FillLayer:
         """A fill layer with a constant edit ``value`` or an edit-space ``source`` texture."""
         if (value is None) == (source is None):
-            raise ValueError("a fill layer needs exactly one of value= or source=")
+            raise InvalidValue("a fill layer needs exactly one of value= or source=")
         layer_id = self._new_id()
         layer = FillLayer(layer_id, f"Fill {layer_id}" if name is None else name)
         if value is not None:
@@ -164,7 +165,7 @@ class Document:
         else:
             data = source.data if isinstance(source, EditMaterial) else source
             if np.shape(data)[:2] != self.size:
-                raise ValueError(f"fill source is {np.shape(data)[:2]}, the document {self.size}")
+                raise InvalidValue(f"fill source is {np.shape(data)[:2]}, the document {self.size}")
             layer.put("source", layer.validate("source", data, self.schema))
         return self._props(layer, props)  # type: ignore[return-value]
 
@@ -267,10 +268,10 @@ class Document:
         layer = self.layer(layer_id)
         if target == "mask":
             if layer.mask is None:
-                raise ValueError(f"layer {layer.name!r} has no mask")
+                raise InvalidValue(f"layer {layer.name!r} has no mask")
             return layer.mask
         if not isinstance(layer, PaintLayer) or layer.pixels is None:
-            raise ValueError(f"layer {layer.name!r} is a {layer.kind} layer: it has no pixels")
+            raise InvalidValue(f"layer {layer.name!r} is a {layer.kind} layer: it has no pixels")
         return layer.pixels
 
     # -- mutations (no undo here: edits call these) -------------------------
@@ -300,9 +301,9 @@ class Document:
             # undo must be able to put it back; it reads as "no group".
             return
         if not isinstance(group, GroupLayer):
-            raise ValueError(f"parent {parent} is not a group layer of this document")
+            raise InvalidValue(f"parent {parent} is not a group layer of this document")
         if parent == layer.id or self.in_group(group, layer.id):
-            raise ValueError(f"layer {layer.name!r} cannot belong to itself")
+            raise InvalidValue(f"layer {layer.name!r} cannot belong to itself")
 
     def _emit_dirty(self, tiles: TileSet) -> None:
         if tiles.any():
@@ -443,7 +444,7 @@ class Document:
         """
         rect = self.layout.bounds if rect is None else rect
         if not self.layout.bounds.contains(rect):
-            raise ValueError(f"{rect} reaches outside the {self.width}x{self.height} document")
+            raise InvalidValue(f"{rect} reaches outside the {self.width}x{self.height} document")
         view = self._compositor.edit(rect)
         return _out(view, copy)
 

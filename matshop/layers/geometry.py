@@ -21,6 +21,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..errors import InvalidValue
+
 #: A tile key: (tile row, tile column).
 TileKey = tuple[int, int]
 
@@ -117,7 +119,7 @@ class TileLayout:
 
     def __post_init__(self) -> None:
         if self.height <= 0 or self.width <= 0:
-            raise ValueError(f"document must be at least 1x1, got {self.width}x{self.height}")
+            raise InvalidValue(f"document must be at least 1x1, got {self.width}x{self.height}")
         if self.tile_size < 1:
             raise ValueError(f"tile size must be positive, got {self.tile_size}")
 

@@ -32,6 +32,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..errors import InvalidValue
 from ..material import Schema
 from ..ops import get_op
 from ..ops.spec import run_op
@@ -73,17 +74,17 @@ class Layer:
     def validate(self, name: str, value: Any, schema: Schema) -> Any:
         """Check a new property value; return it normalised (raises ValueError)."""
         if name not in self.PROPERTIES:
-            raise ValueError(f"{self.kind} layers have no property {name!r}")
+            raise InvalidValue(f"{self.kind} layers have no property {name!r}")
         if name == "name":
             return str(value)
         if name in ("visible", "mask_inverted"):
             if not isinstance(value, bool | np.bool_):
-                raise ValueError(f"{name} must be true or false, got {value!r}")
+                raise InvalidValue(f"{name} must be true or false, got {value!r}")
             return bool(value)
         if name == "opacity":
             opacity = float(value)
             if not 0.0 <= opacity <= 1.0:
-                raise ValueError(f"opacity must lie in [0, 1], got {opacity:g}")
+                raise InvalidValue(f"opacity must lie in [0, 1], got {opacity:g}")
             return opacity
         if name == "blend":
             return get_blend_mode(value).name
@@ -93,7 +94,7 @@ class Layer:
             if value is None:
                 return None
             if isinstance(value, bool) or not isinstance(value, int | np.integer):
-                raise ValueError(f"parent must be a group layer id or None, got {value!r}")
+                raise InvalidValue(f"parent must be a group layer id or None, got {value!r}")
             return int(value)
         raise AssertionError(name)  # pragma: no cover - PROPERTIES and branches agree
 
@@ -161,9 +162,9 @@ def _normalise_parameters(value: Any, schema: Schema) -> tuple[str, ...] | None:
     names = [value] if isinstance(value, str) else list(value)
     unknown = [n for n in names if n not in schema]
     if unknown:
-        raise ValueError(f"no parameter(s) {unknown} in this material (has: {schema.names})")
+        raise InvalidValue(f"no parameter(s) {unknown} in this material (has: {schema.names})")
     if not names:
-        raise ValueError("a layer must affect at least one parameter (None means all)")
+        raise InvalidValue("a layer must affect at least one parameter (None means all)")
     chosen = set(names)
     ordered = tuple(n for n in schema.names if n in chosen)
     return None if len(ordered) == len(schema.names) else ordered
@@ -245,22 +246,22 @@ class FillLayer(Layer):
         if name == "value":
             vector = np.array(value, dtype=np.float32).reshape(-1)
             if vector.shape != (schema.edit_width,):
-                raise ValueError(
+                raise InvalidValue(
                     f"a fill value needs {schema.edit_width} edit channels, got {vector.shape}"
                 )
             return freeze(vector)
         if name == "source":
             if value is None:
                 if self.value is None:
-                    raise ValueError("a fill layer without a value needs its source")
+                    raise InvalidValue("a fill layer without a value needs its source")
                 return None
             array = np.asarray(value)
             if array.ndim != 3 or array.shape[2] != schema.edit_width:
-                raise ValueError(
+                raise InvalidValue(
                     f"a fill source must be (H, W, {schema.edit_width}), got {array.shape}"
                 )
             if array.dtype != np.float32:
-                raise ValueError(f"a fill source must be float32 edit values, got {array.dtype}")
+                raise InvalidValue(f"a fill source must be float32 edit values, got {array.dtype}")
             # the layer must own an immutable copy: undo keeps it by reference
             return freeze(array.copy()) if array.flags.writeable else array
         return super().validate(name, value, schema)
@@ -389,5 +390,5 @@ class GroupLayer(Layer):
 
     def validate(self, name: str, value: Any, schema: Schema) -> Any:
         if name == "blend" and get_blend_mode(value).name != "normal":
-            raise ValueError("a group passes its layers through: its blend mode is normal")
+            raise InvalidValue("a group passes its layers through: its blend mode is normal")
         return super().validate(name, value, schema)

@@ -24,6 +24,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from ..errors import InvalidValue
+
 GENERATORS = ("cavity", "edge", "ao")
 
 #: directions AO searches for the horizon
@@ -119,11 +121,11 @@ def generate_mask(
     itself. The controls default to no change (level 0.5, contrast 1).
     """
     if generator not in GENERATORS:
-        raise ValueError(f"unknown mask generator {generator!r} (known: {', '.join(GENERATORS)})")
+        raise InvalidValue(f"unknown mask generator {generator!r} (known: {', '.join(GENERATORS)})")
     if not (0.0 < radius_px <= 256.0):
-        raise ValueError(f"radius_px must be in (0, 256], got {radius_px}")
+        raise InvalidValue(f"radius_px must be in (0, 256], got {radius_px}")
     if not (0.0 <= blur_px <= 256.0):
-        raise ValueError(f"blur_px must be in [0, 256], got {blur_px}")
+        raise InvalidValue(f"blur_px must be in [0, 256], got {blur_px}")
     height = integrate_height(normals)
     if generator == "ao":
         raw = ambient_occlusion(height, radius_px)

@@ -34,6 +34,7 @@ from typing import Literal
 
 import numpy as np
 
+from ..errors import InvalidValue
 from .selection import ChannelGroup
 
 Remap = Literal["data", "space"]
@@ -119,7 +120,7 @@ def tone_ranges(
 ) -> list[ToneRange]:
     """One :class:`ToneRange` per group of the selected ``block`` ``(H, W, k)``."""
     if remap not in REMAPS:
-        raise ValueError(f"unknown remap {remap!r} (use {' or '.join(REMAPS)})")
+        raise InvalidValue(f"unknown remap {remap!r} (use {' or '.join(REMAPS)})")
     # one contiguous copy of the sampled texels: the per-group gathers stay cheap
     sample = np.ascontiguousarray(_sample(block)) if remap == "data" else None
     out = []

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InvalidValue
 from .pressure import CONSTANT, PressureCurve
 
 
@@ -50,7 +51,7 @@ class Brush:
         }
         for name, (value, lo, hi) in checks.items():
             if not (math.isfinite(value) and lo <= value <= hi):
-                raise ValueError(f"brush {name} must lie in [{lo:g}, {hi:g}], got {value!r}")
+                raise InvalidValue(f"brush {name} must lie in [{lo:g}, {hi:g}], got {value!r}")
 
     def radius_at(self, pressure: float) -> float:
         # a dab never shrinks below half a texel: a light touch still paints

@@ -20,6 +20,7 @@ from typing import Literal
 
 import numpy as np
 
+from ..errors import InvalidValue
 from ..layers.document import Document
 from ..layers.edits import AddLayer, CompoundEdit, Edit, SetProperty
 from ..layers.geometry import Rect, periodic_runs
@@ -100,22 +101,22 @@ class StrokeSession:
         label: str | None = None,
     ) -> None:
         if mode not in ("paint", "erase", "clone"):
-            raise ValueError(f"unknown brush mode {mode!r} (paint, erase or clone)")
+            raise InvalidValue(f"unknown brush mode {mode!r} (paint, erase or clone)")
         if target not in ("pixels", "mask"):
-            raise ValueError(f"unknown stroke target {target!r} (pixels or mask)")
+            raise InvalidValue(f"unknown stroke target {target!r} (pixels or mask)")
         if not all(math.isfinite(v) and abs(v) <= MAX_OFFSET_PX for v in clone_offset):
-            raise ValueError(
+            raise InvalidValue(
                 f"clone offset must be finite, within +-{MAX_OFFSET_PX} px, got {clone_offset}"
             )
         layer = doc.layer(layer_id)
         if target == "pixels" and not isinstance(layer, PaintLayer):
-            raise ValueError(f"layer {layer.name!r} is a {layer.kind} layer: paint into its mask")
+            raise InvalidValue(f"layer {layer.name!r} is a {layer.kind} layer: paint into its mask")
         if target == "mask" and layer.mask is None:
-            raise ValueError(f"layer {layer.name!r} has no mask to paint")
+            raise InvalidValue(f"layer {layer.name!r} has no mask to paint")
         if target == "mask" and mode == "clone":
-            raise ValueError("the clone stamp paints layer pixels, not masks")
+            raise InvalidValue("the clone stamp paints layer pixels, not masks")
         if not 0.0 <= mask_value <= 1.0:
-            raise ValueError(f"mask value must lie in [0, 1], got {mask_value:g}")
+            raise InvalidValue(f"mask value must lie in [0, 1], got {mask_value:g}")
         self.doc = doc
         self.brush = brush
         self.mode = mode
@@ -134,7 +135,7 @@ class StrokeSession:
             self._values = 1.0 - shown if layer.mask_inverted else shown
         elif mode == "paint":
             if swatch is None:
-                raise ValueError("painting pixels needs a swatch (the material to paint)")
+                raise InvalidValue("painting pixels needs a swatch (the material to paint)")
             layer, self._prepare, self.note = fit_layer(doc, layer, swatch)
             if self._prepare is not None:
                 self._prepare.apply(doc)
@@ -241,7 +242,7 @@ def fit_layer(doc: Document, layer: PaintLayer, swatch: Swatch) -> tuple[Layer, 
     """
     painted, skipped = stroke_parameters(doc, layer, swatch)
     if not painted:
-        raise ValueError(
+        raise InvalidValue(
             f"swatch {swatch.name!r} sets {', '.join(swatch.parameters)}; layer "
             f"{layer.name!r} affects only {', '.join(skipped)}: nothing to paint"
         )

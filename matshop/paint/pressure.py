@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InvalidValue
 from ..ops.curves import curve_lut
 
 LINEAR = ((0.0, 0.0), (1.0, 1.0))
@@ -27,12 +28,14 @@ class PressureCurve:
     def __post_init__(self) -> None:
         points = tuple((float(x), float(y)) for x, y in self.points)
         if len(points) < 2:
-            raise ValueError("a pressure curve needs at least two points")
+            raise InvalidValue("a pressure curve needs at least two points")
         for x, y in points:
             if not (0.0 <= x <= 1.0 and 0.0 <= y <= 1.0):
-                raise ValueError(f"pressure curve points must lie in [0, 1]^2, got ({x:g}, {y:g})")
+                raise InvalidValue(
+                    f"pressure curve points must lie in [0, 1]^2, got ({x:g}, {y:g})"
+                )
         if any(b[0] <= a[0] for a, b in zip(points, points[1:], strict=False)):
-            raise ValueError("pressure curve points need strictly increasing pressures")
+            raise InvalidValue("pressure curve points need strictly increasing pressures")
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "_lut", curve_lut(points))
 

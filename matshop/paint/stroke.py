@@ -6,6 +6,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from ..errors import InvalidValue
 from .brush import Brush
 
 
@@ -19,9 +20,9 @@ class StrokeSample:
 
     def __post_init__(self) -> None:
         if not all(math.isfinite(v) for v in (self.x, self.y, self.pressure)):
-            raise ValueError(f"stroke sample must be finite, got {self}")
+            raise InvalidValue(f"stroke sample must be finite, got {self}")
         if not 0.0 <= self.pressure <= 1.0:
-            raise ValueError(f"pressure must lie in [0, 1], got {self.pressure:g}")
+            raise InvalidValue(f"pressure must lie in [0, 1], got {self.pressure:g}")
 
 
 @dataclass(frozen=True)

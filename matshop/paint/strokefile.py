@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import MatshopError
+from ..errors import InvalidValue, MatshopError, naming
 from ..io.jsonfile import read_json
 from .brush import Brush
 from .pressure import PressureCurve
@@ -69,16 +69,14 @@ def _brush(data: Any) -> Brush:
     if data is None:
         return Brush()
     if not isinstance(data, dict):
-        raise ValueError("brush must be an object")
+        raise InvalidValue("brush must be an object")
     unknown = set(data) - {*_BRUSH_NUMBERS, "size_pressure", "opacity_pressure"}
     if unknown:
-        raise ValueError(f"brush has unknown setting(s) {', '.join(sorted(unknown))}")
+        raise InvalidValue(f"brush has unknown setting(s) {', '.join(sorted(unknown))}")
     numbers = {}
     for key in _BRUSH_NUMBERS:
         if key in data:
-            if isinstance(data[key], bool) or not isinstance(data[key], int | float):
-                raise ValueError(f"brush {key} must be a number")
-            numbers[key] = float(data[key])
+            numbers[key] = _number(data[key], f"brush {key}")
     curves = {
         key: PressureCurve.from_points(data[key])
         for key in ("size_pressure", "opacity_pressure")
@@ -87,19 +85,26 @@ def _brush(data: Any) -> Brush:
     return Brush(**numbers, **curves)
 
 
+def _number(value: Any, what: str) -> float:
+    """A JSON number (not a boolean, not text) as a float (read_json bounds the digits)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise InvalidValue(f"{what} must be a number")
+    return float(value)
+
+
 def _samples(points: Any) -> list[StrokeSample]:
     if not isinstance(points, list) or not points:
-        raise ValueError("points must be a non-empty list of [x, y] or [x, y, pressure]")
+        raise InvalidValue("points must be a non-empty list of [x, y] or [x, y, pressure]")
     if len(points) > MAX_POINTS:
-        raise ValueError(f"a stroke has at most {MAX_POINTS} points, got {len(points)}")
+        raise InvalidValue(f"a stroke has at most {MAX_POINTS} points, got {len(points)}")
     samples = []
     for point in points:
         ok = isinstance(point, list) and len(point) in (2, 3)
         if not ok or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in point):
-            raise ValueError(f"bad point {point!r}: expected [x, y] or [x, y, pressure]")
+            raise InvalidValue(f"bad point {point!r}: expected [x, y] or [x, y, pressure]")
         sample = StrokeSample(*(float(v) for v in point))
         if max(abs(sample.x), abs(sample.y)) > MAX_COORD_PX:
-            raise ValueError(f"point {point!r} lies beyond +-{MAX_COORD_PX:g} texels")
+            raise InvalidValue(f"point {point!r} lies beyond +-{MAX_COORD_PX:g} texels")
         samples.append(sample)
     return samples
 
@@ -118,10 +123,10 @@ def _too_many_dabs(dabs: float, what: str) -> str:
 
 def parse_stroke(data: Any) -> StrokeSpec:
     if not isinstance(data, dict):
-        raise ValueError("a stroke must be an object")
+        raise InvalidValue("a stroke must be an object")
     unknown = set(data) - _STROKE_KEYS
     if unknown:
-        raise ValueError(f"stroke has unknown key(s) {', '.join(sorted(unknown))}")
+        raise InvalidValue(f"stroke has unknown key(s) {', '.join(sorted(unknown))}")
     options: dict[str, Any] = {}
     for key in ("mode", "target"):
         if key in data:
@@ -129,23 +134,24 @@ def parse_stroke(data: Any) -> StrokeSpec:
     if "swatch" in data:
         options["swatch"] = Swatch.from_json(data["swatch"])
     if "mask_value" in data:
-        options["mask_value"] = float(data["mask_value"])
+        options["mask_value"] = _number(data["mask_value"], "mask_value")
     if "clone_offset" in data:
         offset = data["clone_offset"]
         if not (isinstance(offset, list) and len(offset) == 2):
-            raise ValueError("clone_offset must be [dx, dy]")
-        options["clone_offset"] = (float(offset[0]), float(offset[1]))  # checked when painted
+            raise InvalidValue("clone_offset must be [dx, dy]")
+        # checked when painted
+        options["clone_offset"] = tuple(_number(v, "clone_offset") for v in offset)
     if "wrap" in data:
         if not isinstance(data["wrap"], bool):
-            raise ValueError("wrap must be true or false")
+            raise InvalidValue("wrap must be true or false")
         options["wrap"] = data["wrap"]
     layer = data.get("layer")
     if layer is not None and (isinstance(layer, bool) or not isinstance(layer, str | int)):
-        raise ValueError("layer must be a layer name or id")
+        raise InvalidValue("layer must be a layer name or id")
     samples, brush = _samples(data.get("points")), _brush(data.get("brush"))
     dabs = _dab_estimate(samples, brush)
     if dabs > MAX_DABS:  # points far apart: refused before painting, not after minutes
-        raise ValueError(_too_many_dabs(dabs, "the stroke"))
+        raise InvalidValue(_too_many_dabs(dabs, "the stroke"))
     return StrokeSpec(layer, samples, brush, options, dabs)
 
 
@@ -158,10 +164,8 @@ def load_strokes(path: str | Path) -> list[StrokeSpec]:
     items = data if isinstance(data, list) else [data]
     strokes = []
     for number, item in enumerate(items, 1):
-        try:
+        with naming(path, what=f"stroke {number}"):
             strokes.append(parse_stroke(item))
-        except (ValueError, TypeError) as exc:
-            raise MatshopError(f"stroke {number}: {exc}", path) from None
     if not strokes:
         raise MatshopError("no strokes in the file", path)
     total = sum(stroke.dabs for stroke in strokes)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MatshopError
+from ..errors import InvalidValue, MatshopError, naming
 from ..io.atomic import atomic_target
 from ..io.jsonfile import read_json
 from ..material import Schema
@@ -36,12 +36,16 @@ class Swatch:
     def __post_init__(self) -> None:
         clean = {}
         for param, value in self.values.items():
-            vector = tuple(float(v) for v in np.atleast_1d(np.asarray(value, dtype=np.float64)))
+            try:
+                array = np.atleast_1d(np.asarray(value, dtype=np.float64))
+            except (TypeError, ValueError):  # text, ragged lists: not numbers
+                array = np.empty(0)
+            vector = tuple(array.tolist()) if array.ndim == 1 else ()
             if not vector or not all(math.isfinite(v) for v in vector):
-                raise ValueError(f"swatch {self.name!r}: {param} must be finite numbers")
+                raise InvalidValue(f"swatch {self.name!r}: {param} must be finite numbers")
             clean[str(param)] = vector
         if not clean:
-            raise ValueError(f"swatch {self.name!r} has no values")
+            raise InvalidValue(f"swatch {self.name!r} has no values")
         object.__setattr__(self, "values", clean)
 
     @property
@@ -55,7 +59,7 @@ class Swatch:
         """
         unknown = [p for p in self.values if p not in schema]
         if unknown:
-            raise ValueError(
+            raise InvalidValue(
                 f"swatch {self.name!r} sets {', '.join(unknown)}, which this material "
                 f"does not have (it has {', '.join(schema.names)})"
             )
@@ -67,9 +71,9 @@ class Swatch:
             with np.errstate(over="ignore"):  # too large for float32: refused below
                 phys = np.asarray(self.values[param.name], dtype=np.float32)
             if not np.isfinite(phys).all():
-                raise ValueError(f"swatch {self.name!r}: {param.name} values are out of range")
+                raise InvalidValue(f"swatch {self.name!r}: {param.name} values are out of range")
             if phys.size != param.phys_channels:
-                raise ValueError(
+                raise InvalidValue(
                     f"swatch {self.name!r}: {param.name} needs {param.phys_channels} "
                     f"value(s), got {phys.size}"
                 )
@@ -77,7 +81,7 @@ class Swatch:
             with np.errstate(all="ignore"):  # an overflow shows as non-finite: refused below
                 vector[where] = param.space.to_edit(phys.reshape(1, 1, -1))[0, 0]
             if not np.isfinite(vector[where]).all():
-                raise ValueError(f"swatch {self.name!r}: {param.name} values are out of range")
+                raise InvalidValue(f"swatch {self.name!r}: {param.name} values are out of range")
             channels.extend(range(where.start, where.stop))
         return vector, np.asarray(channels, dtype=np.intp)
 
@@ -100,7 +104,7 @@ class Swatch:
     @classmethod
     def from_json(cls, data: object) -> Swatch:
         if not isinstance(data, dict) or not isinstance(data.get("values"), dict):
-            raise ValueError("a swatch is an object with a name and a values object")
+            raise InvalidValue("a swatch is an object with a name and a values object")
         return cls(str(data.get("name", "swatch")), data["values"])
 
 
@@ -127,7 +131,8 @@ def load_swatches(path: str | Path) -> list[Swatch]:
             f"swatch library version {version!r}; this matshop reads up to {LIBRARY_VERSION}",
             path,
         )
-    try:
-        return [Swatch.from_json(item) for item in data.get("swatches", [])]
-    except ValueError as exc:
-        raise MatshopError(str(exc), path) from None
+    items = data.get("swatches", [])
+    if not isinstance(items, list):
+        raise InvalidValue('"swatches" must be a list', path)
+    with naming(path):
+        return [Swatch.from_json(item) for item in items]

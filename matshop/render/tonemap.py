@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InvalidValue
+
 TONEMAPS = ("aces", "linear")
 
 
@@ -31,7 +33,7 @@ def srgb_encode(linear: np.ndarray) -> np.ndarray:
 def to_display(radiance: np.ndarray, *, exposure: float = 0.0, tonemap: str = "aces") -> np.ndarray:
     """Display-encoded float32 in [0, 1], same shape as ``radiance``."""
     if tonemap not in TONEMAPS:
-        raise ValueError(f"unknown tone map {tonemap!r} (use one of {', '.join(TONEMAPS)})")
+        raise InvalidValue(f"unknown tone map {tonemap!r} (use one of {', '.join(TONEMAPS)})")
     scaled = np.asarray(radiance, dtype=np.float32) * np.float32(2.0**exposure)
     mapped = aces(scaled) if tonemap == "aces" else np.clip(scaled, 0.0, 1.0)
     return srgb_encode(mapped).astype(np.float32)

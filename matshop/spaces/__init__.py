@@ -10,6 +10,7 @@ from __future__ import annotations
 import importlib
 from functools import cache
 
+from ..errors import UnknownName
 from .base import EditRange, Space
 
 _FAMILY_MODULES = (
@@ -47,4 +48,4 @@ def get_space(name: str) -> Space:
         return registry[name]
     except KeyError:
         known = ", ".join(sorted(registry))
-        raise KeyError(f"unknown editing space {name!r} (known: {known})") from None
+        raise UnknownName(f"unknown editing space {name!r} (known: {known})") from None

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InvalidValue
 from ._kernels import FRAME_FROM_EDIT, FRAME_TO_EDIT, NORMAL_FROM_EDIT, NORMAL_TO_EDIT, frames
 from .base import EditRange, FusedSpace, Space, as_channels
 
@@ -60,7 +61,9 @@ _F32 = np.float32
 
 def _check_convention(convention: str) -> None:
     if convention not in _CONVENTIONS:
-        raise ValueError(f"normal map convention must be 'opengl' or 'directx', got {convention!r}")
+        raise InvalidValue(
+            f"normal map convention must be 'opengl' or 'directx', got {convention!r}"
+        )
 
 
 def _normalize_or_z(v: np.ndarray) -> np.ndarray:

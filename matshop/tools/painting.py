@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 
+from ..errors import MatshopError
 from ..layers import Layer, PaintLayer
 from ..paint import StrokeSample, StrokeSession
 from ..paint.painter import stroke_parameters
@@ -73,7 +74,7 @@ class StrokeTool(Tool):
             self._session = StrokeSession(
                 doc, layer_id, self.host.brush(), mode=self.mode, **options
             )
-        except ValueError as exc:  # the engine's sentence says what to change
+        except MatshopError as exc:  # the engine's sentence says what to change
             self.host.message(str(exc))
             return
         if self._session.note:
@@ -144,14 +145,14 @@ class BrushTool(StrokeTool):
             return None
         try:
             return {"swatch": self.host.swatch()}
-        except ValueError as exc:
+        except MatshopError as exc:
             self.host.message(str(exc))
             return None
 
     def _pixels_action(self, layer: Layer | None) -> str:
         try:
             swatch = self.host.swatch()
-        except ValueError as exc:
+        except MatshopError as exc:
             return f"Brush: {exc}"
         doc = self.host.doc
         assert doc is not None

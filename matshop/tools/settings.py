@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from PySide6.QtCore import QObject, Signal
 
+from ..errors import InvalidValue
 from ..layers import Document, Rect
 from ..paint import Brush, Swatch
 
@@ -139,7 +140,7 @@ class SwatchModel(QObject):
         """The swatch strokes paint: only the enabled parameters."""
         chosen = {p: self.values[p] for p in self.enabled if p in self.values}
         if not chosen:
-            raise ValueError("the swatch paints no parameter: enable one in the swatch panel")
+            raise InvalidValue("the swatch paints no parameter: enable one in the swatch panel")
         return Swatch(self.name, chosen)
 
     def set_value(self, parameter: str, value: tuple[float, ...]) -> None:

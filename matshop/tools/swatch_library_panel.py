@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from ..errors import MatshopError
 from ..paint import Swatch
 from .settings import SwatchModel, short_label
 from .swatch_library import SwatchLibrary
@@ -93,7 +94,7 @@ class SwatchLibraryPanel(QGroupBox):
     def add_current(self) -> None:
         try:
             swatch = self.model.swatch()
-        except ValueError as exc:  # no parameter enabled
+        except MatshopError as exc:  # no parameter enabled
             self.library.error = str(exc)
             self._rebuild()
             return

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import MatshopError
+from ...errors import MatshopError, naming
 from ...io.project import save_project
 from ...layers import AddLayer, Document, RemoveLayer, SetMask, SetProperty
 from ...layers.layer import PaintLayer
@@ -87,10 +87,8 @@ def _fill_from_values(doc: Document, pairs: Sequence[str]) -> tuple[np.ndarray, 
             values[name.strip()] = [float(v) for v in text.split(",")]
         except ValueError:
             raise MatshopError(f"--value {name.strip()}: not numbers: {text!r}") from None
-    try:
+    with naming(what="--value"):
         vector, _ = Swatch("fill", values).edit_values(doc.schema)
-    except ValueError as exc:
-        raise MatshopError(f"--value: {exc}") from None
     return vector, list(values)
 
 
@@ -134,33 +132,30 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
     for option, wrong in misplaced.items():
         if wrong:
             raise MatshopError(f"{option} does not apply to a {args.kind} layer")
-    try:
-        if args.kind == "paint":
-            layer = doc.new_paint_layer(args.name, **props)
-        elif args.kind == "group":
-            layer = doc.new_group_layer(args.name, **props)
-        elif args.kind == "fill":
-            if bool(args.value) == (args.source is not None):
-                raise MatshopError("a fill layer needs --value PARAM=V... or --from TEXTURE_SET")
-            if args.value:
-                value, defined = _fill_from_values(doc, args.value)
-                layer = doc.new_fill_layer(args.name, value=value, **props)
-            else:
-                data, defined = _fill_from_set(doc, args.source)
-                layer = doc.new_fill_layer(args.name, source=data, **props)
-            # a fill only affects what it defines, unless told otherwise
-            parameters = parameters or defined
+    if args.kind == "paint":
+        layer = doc.new_paint_layer(args.name, **props)
+    elif args.kind == "group":
+        layer = doc.new_group_layer(args.name, **props)
+    elif args.kind == "fill":
+        if bool(args.value) == (args.source is not None):
+            raise MatshopError("a fill layer needs --value PARAM=V... or --from TEXTURE_SET")
+        if args.value:
+            value, defined = _fill_from_values(doc, args.value)
+            layer = doc.new_fill_layer(args.name, value=value, **props)
         else:
-            if not args.op:
-                raise MatshopError("a filter layer needs --op NAME [KEY=VALUE ...]")
-            spec = get_op(args.op[0])
-            layer = doc.new_filter_layer(
-                spec.name, args.name, op_params=spec.parse_args(args.op[1:]), **props
-            )
-        if parameters is not None:
-            layer.put("parameters", layer.validate("parameters", parameters, doc.schema))
-    except ValueError as exc:
-        raise MatshopError(str(exc), args.project) from None
+            data, defined = _fill_from_set(doc, args.source)
+            layer = doc.new_fill_layer(args.name, source=data, **props)
+        # a fill only affects what it defines, unless told otherwise
+        parameters = parameters or defined
+    else:
+        if not args.op:
+            raise MatshopError("a filter layer needs --op NAME [KEY=VALUE ...]")
+        spec = get_op(args.op[0])
+        layer = doc.new_filter_layer(
+            spec.name, args.name, op_params=spec.parse_args(args.op[1:]), **props
+        )
+    if parameters is not None:
+        layer.put("parameters", layer.validate("parameters", parameters, doc.schema))
     index = args.index
     if args.group is not None:
         group = find_layer(doc, args.group, args.project)
@@ -231,10 +226,8 @@ def _generated_mask(doc: Document, words: Sequence[str], project: Path) -> np.nd
         if key != "invert" and not np.isfinite(options[key]):
             raise MatshopError(f"--mask-generator {key} must be finite, got {text!r}")
     normals = doc.physical()["normal"][..., :3]
-    try:
+    with naming(what="--mask-generator"):
         return generate_mask(normals, name, **options)
-    except ValueError as exc:
-        raise MatshopError(f"--mask-generator: {exc}") from None
 
 
 @about_project
@@ -289,10 +282,9 @@ def cmd_layer_set(args: argparse.Namespace) -> int:
         if name not in layer.PROPERTIES:
             known = ", ".join(layer.PROPERTIES)
             raise MatshopError(f"{layer.kind} layers have no property {name!r} (has: {known})")
-        try:
-            history.push(SetProperty(layer.id, name, _property_value(name, text.strip())))
-        except ValueError as exc:
-            raise MatshopError(f"layer {layer.name!r}: {exc}", args.project) from None
+        value = _property_value(name, text.strip())
+        with naming(what=f"layer {layer.name!r}"):
+            history.push(SetProperty(layer.id, name, value))
     save_project(doc, args.project, settings=settings)
     print(f"changed layer {layer.id} {layer.name!r}")
     return 0

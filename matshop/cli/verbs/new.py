@@ -6,7 +6,7 @@ import argparse
 import re
 from pathlib import Path
 
-from ...errors import MatshopError
+from ...errors import MatshopError, naming
 from ...io.project import save_project
 from ...layers import Document
 from ...material import Schema
@@ -48,10 +48,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         if not args.size or not args.params:
             raise MatshopError("give --from TEXTURE_SET, or --size and --params for an empty one")
-        try:
+        with naming(what="--params"):
             schema = Schema.from_names(names(args.params) or [])
-        except (KeyError, ValueError) as exc:
-            raise MatshopError(f"--params: {exc}") from None
         height, width = _size(args.size)
         doc = Document(schema, height, width, name=path.name.split(".")[0])
     save_project(doc, path)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ...errors import MatshopError
+from ...errors import MatshopError, naming
 from ...io.project import save_project
 from ...layers.layer import PaintLayer
 from ...paint.painter import StrokeSession
@@ -43,10 +43,8 @@ def run(args: argparse.Namespace) -> int:
             raise MatshopError(
                 "no paint layer: add one with `matshop layer add PROJECT paint`", args.project
             )
-        try:
+        with naming(args.stroke, what=f"stroke {number}"):
             session = StrokeSession(doc, layer.id, stroke.brush, history=history, **stroke.options)
-        except ValueError as exc:
-            raise MatshopError(f"stroke {number}: {exc}", args.stroke) from None
         if session.note:
             print(f"stroke {number}: {session.note}")
             if stroke.layer is None:  # later strokes go where this one went
