@@ -1,6 +1,6 @@
 """``matshop batch RECIPE INPUT... OUT``: a recipe over a library, on Dask.
 
-Only the standard library at import: ``matshop batch --help`` stays fast.
+Dask loads only when a batch runs, so ``matshop batch --help`` stays fast.
 """
 
 from __future__ import annotations

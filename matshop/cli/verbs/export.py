@@ -1,7 +1,7 @@
 """``matshop export IN OUT --preset NAME``: what an engine loads, as a preset says.
 
-Only the standard library is imported at module level: ``matshop export --help``
-stays fast, and numpy/OpenImageIO load only when an export actually runs.
+numpy and OpenImageIO load only when an export runs, so ``matshop export --help``
+stays fast.
 """
 
 from __future__ import annotations
