@@ -229,12 +229,6 @@ class LayerCommands(QObject):
             return
         self._push(SetProperty(layer_id, name, value), merge=merge)
 
-    def can_move(self, delta: int) -> bool:
-        doc, layer = self.session.doc, self.session.active_layer
-        if doc is None or layer is None:
-            return False
-        return 0 <= doc.index_of(layer.id) + delta < len(doc)
-
 
 def _same(a: Any, b: Any) -> bool:
     try:

@@ -33,6 +33,7 @@ from ..tools.swatch_library import SwatchLibrary
 from ..tools.tool_panel import ToolPanel
 from ..viewport.canvas import TextureCanvas
 from ..viewport.display import display_mode, format_values
+from .action_rules import ENABLED_WHEN
 from .background import BackgroundFlatten
 from .busy_indicator import BusyIndicator
 from .curves_dialog import CurvesDialog
@@ -339,43 +340,18 @@ class MainWindow(QMainWindow):
         self.update_actions()
 
     def update_actions(self) -> None:
-        """Enable what makes sense now; name the undo/redo steps."""
-        a, session = self.actions_by_name, self.session
-        has_doc = session.doc is not None
-        history = session.history
-        for name in (
-            "save",
-            "save_as",
-            "export",
-            "close",
-            "add_paint",
-            "add_fill",
-            "add_filter",
-            "curves",
-            "fit",
-            "actual",
-            "zoom_in",
-            "zoom_out",
-        ):
-            a[name].setEnabled(has_doc)
-        self.parameter_combo.setEnabled(has_doc)
-        can_undo = history is not None and history.can_undo
-        can_redo = history is not None and history.can_redo
-        a["undo"].setEnabled(can_undo)
-        a["redo"].setEnabled(can_redo)
-        a["undo"].setText(f"&Undo {history.undo_label}" if can_undo else "&Undo")
-        a["redo"].setText(f"&Redo {history.redo_label}" if can_redo else "&Redo")
-        layer = session.active_layer
-        a["delete"].setEnabled(layer is not None and has_doc and len(session.doc) > 1)
-        a["duplicate"].setEnabled(layer is not None and layer.kind != "group")
-        a["group"].setEnabled(layer is not None)
-        a["ungroup"].setEnabled(layer is not None and layer.parent is not None)
-        has_mask = layer is not None and layer.mask is not None
-        a["add_mask"].setEnabled(layer is not None and not has_mask)
-        a["remove_mask"].setEnabled(has_mask)
-        a["invert_mask"].setEnabled(has_mask)
-        a["move_up"].setEnabled(self.layer_commands.can_move(1))
-        a["move_down"].setEnabled(self.layer_commands.can_move(-1))
+        """Enable what makes sense now (:data:`ENABLED_WHEN`); name the undo/redo steps."""
+        a, doc, layer = self.actions_by_name, self.session.doc, self.session.active_layer
+        for name, enabled in ENABLED_WHEN.items():
+            a[name].setEnabled(enabled(doc, layer))
+        self.parameter_combo.setEnabled(doc is not None)
+        history = self.session.history
+        undo = None if history is None else history.undo_label
+        redo = None if history is None else history.redo_label
+        a["undo"].setEnabled(undo is not None)
+        a["redo"].setEnabled(redo is not None)
+        a["undo"].setText("&Undo" if undo is None else f"&Undo {undo}")
+        a["redo"].setText("&Redo" if redo is None else f"&Redo {redo}")
 
     def _update_title(self, *_args) -> None:
         title = self.session.title

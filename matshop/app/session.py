@@ -1,21 +1,19 @@
 """The open document, its history and the active layer, as Qt signals.
 
 Every change the GUI makes goes through :meth:`DocumentSession.push` as an
-edit (never a mutation of arrays), so history, the modified flag and the
-panels stay in step. The session mirrors the history stack with one token
-per step so "modified" is exact after undoing back to the saved state.
+edit (never a mutation of arrays). The session listens to the history's
+events (:class:`matshop.layers.HistoryEvents`) and turns them into Qt
+signals; the history owns the saved marker, so "modified" is exact after
+undoing back to the saved state, after merges and after dropped steps.
 """
 
 from __future__ import annotations
 
-import itertools
 from pathlib import Path
 
 from PySide6.QtCore import QObject, Signal
 
 from ..layers import Document, Edit, History, Layer
-
-_tokens = itertools.count(1)
 
 
 class DocumentSession(QObject):
@@ -23,7 +21,8 @@ class DocumentSession(QObject):
 
     #: a different document was opened (or closed)
     documentReplaced = Signal()
-    #: the undo/redo stacks changed (push, undo, redo, merge)
+    #: the undo/redo stacks changed (push, undo, redo, merge, clear); a view that
+    #: mirrors the steps subscribes to ``history.events`` instead
     historyChanged = Signal()
     #: layers were added, removed, moved or changed a property
     layersChanged = Signal()
@@ -43,14 +42,9 @@ class DocumentSession(QObject):
         self.active_layer_id: int | None = None
         #: strokes paint the active layer's mask (its thumbnail is selected), not its pixels
         self.mask_target = False
-        self._undo_tokens: list[int] = []
-        self._redo_tokens: list[int] = []
-        # the edits beside their tokens (the history keeps them privately)
-        self._undo_edits: list[Edit] = []
-        self._redo_edits: list[Edit] = []
-        self._saved_token = 0
-        self._autosaved_token = 0
+        self._autosaved_state = 0  # the history state last written to the recovery file
         self._forced_modified = False
+        self._was_modified = False
 
     # -- the document --------------------------------------------------------
 
@@ -65,14 +59,13 @@ class DocumentSession(QObject):
         if self.doc is not None:
             self.doc.events.layers.disconnect(self._on_layers)
             self.doc.events.layer.disconnect(self._on_layer)
-        was_modified = self.modified
+        if self.history is not None:
+            self._subscribe(self.history, False)
         self.doc = doc
         self.history = None if doc is None else History(doc)
         self.project_path = project_path
         self.source_path = source_path
-        self._undo_tokens, self._redo_tokens = [], []
-        self._undo_edits, self._redo_edits = [], []
-        self._saved_token = self._autosaved_token = 0
+        self._autosaved_state = 0 if self.history is None else self.history.state_id
         self._forced_modified = modified
         self.active_layer_id = None
         self.mask_target = False
@@ -80,11 +73,38 @@ class DocumentSession(QObject):
             doc.events.layers.connect(self._on_layers)
             doc.events.layer.connect(self._on_layer)
             self.active_layer_id = doc.layers[-1].id if doc.layers else None
+        if self.history is not None:
+            self._subscribe(self.history, True)
         self.documentReplaced.emit()
         self.historyChanged.emit()
         self.layersChanged.emit()
         self.activeLayerChanged.emit()
-        if self.modified != was_modified:
+        self._check_modified()
+
+    def _subscribe(self, history: History, on: bool) -> None:
+        events = history.events
+        pairs = [
+            (events.pushed, self._stacks_changed),
+            (events.undone, self._stacks_changed),
+            (events.redone, self._stacks_changed),
+            (events.dropped, self._steps_dropped),
+            (events.saved, self._check_modified),
+        ]
+        for signal, slot in pairs:
+            (signal.connect if on else signal.disconnect)(slot)
+
+    def _stacks_changed(self, *_args) -> None:
+        self.historyChanged.emit()
+        self._check_modified()
+
+    def _steps_dropped(self, _steps: tuple[Edit, ...], reason: str) -> None:
+        # the drops of a push come with its ``pushed``: one historyChanged for both
+        if reason == "clear":
+            self._stacks_changed()
+
+    def _check_modified(self) -> None:
+        if self.modified != self._was_modified:
+            self._was_modified = self.modified
             self.modifiedChanged.emit(self.modified)
 
     def _on_layers(self, kind: str, layer_id: int, index: int) -> None:
@@ -135,17 +155,7 @@ class DocumentSession(QObject):
         ``merge=True`` only for the ticks of one slider drag (see :meth:`seal`).
         """
         assert self.history is not None, "no document"
-        before = self.modified
-        merged = self.history.push(edit, applied=applied, merge=merge)
-        if merged and self._undo_tokens:
-            self._undo_tokens[-1] = next(_tokens)  # the step changed: no longer the saved one
-        else:
-            self._undo_tokens.append(next(_tokens))
-            self._undo_edits.append(edit)
-        self._redo_tokens.clear()
-        self._redo_edits.clear()
-        self._changed(before)
-        return merged
+        return self.history.push(edit, applied=applied, merge=merge)
 
     def seal(self) -> None:
         """The next push starts a new undo step (a drag ended or began)."""
@@ -153,76 +163,56 @@ class DocumentSession(QObject):
             self.history.seal()
 
     def undo(self) -> Edit | None:
-        if self.history is None or not self.history.can_undo:
-            return None
-        before = self.modified
-        edit = self.history.undo()
-        self._redo_tokens.append(self._undo_tokens.pop())
-        self._redo_edits.append(self._undo_edits.pop())
-        self._changed(before)
-        return edit
+        return None if self.history is None else self.history.undo()
 
     def redo(self) -> Edit | None:
-        if self.history is None or not self.history.can_redo:
-            return None
-        before = self.modified
-        edit = self.history.redo()
-        self._undo_tokens.append(self._redo_tokens.pop())
-        self._undo_edits.append(self._redo_edits.pop())
-        self._changed(before)
-        return edit
+        return None if self.history is None else self.history.redo()
 
     def jump_to(self, steps: int) -> None:
         """Undo or redo until ``steps`` steps are applied (the history panel's click)."""
-        while self.history is not None and len(self._undo_tokens) > steps and self.undo():
+        while self.history is not None and self.history.undo_steps > steps and self.undo():
             pass
-        while self.history is not None and len(self._undo_tokens) < steps and self.redo():
+        while self.history is not None and self.history.undo_steps < steps and self.redo():
             pass
 
     @property
     def last_edit(self) -> Edit | None:
         """The step the next undo reverts (None: nothing to undo)."""
-        return self._undo_edits[-1] if self._undo_edits else None
+        return None if self.history is None else self.history.last_edit
 
     @property
     def steps(self) -> int:
         """Undo steps currently applied."""
-        return len(self._undo_tokens)
-
-    def _changed(self, was_modified: bool) -> None:
-        # the history may have dropped its oldest steps to stay in budget
-        if self.history is not None:
-            dropped = max(0, len(self._undo_tokens) - self.history.report().undo_steps)
-            del self._undo_tokens[:dropped]
-            del self._undo_edits[:dropped]
-        self.historyChanged.emit()
-        if self.modified != was_modified:
-            self.modifiedChanged.emit(self.modified)
+        return 0 if self.history is None else self.history.undo_steps
 
     # -- saved state ---------------------------------------------------------
-
-    def _top(self) -> int:
-        return self._undo_tokens[-1] if self._undo_tokens else 0
 
     @property
     def modified(self) -> bool:
         """Changed since opened or saved (undoing back to the saved state clears it)."""
-        return self.doc is not None and (self._forced_modified or self._top() != self._saved_token)
+        if self.doc is None or self.history is None:
+            return False
+        return self._forced_modified or not self.history.at_saved
 
     @property
     def needs_autosave(self) -> bool:
-        return self.modified and self._top() != self._autosaved_token
+        return (
+            self.modified
+            and self.history is not None
+            and self.history.state_id != self._autosaved_state
+        )
 
     def mark_saved(self, project_path: Path) -> None:
-        before = self.modified
         self.project_path = project_path
-        self._saved_token = self._autosaved_token = self._top()
         self._forced_modified = False
-        if self.modified != before:
-            self.modifiedChanged.emit(self.modified)
+        if self.history is not None:
+            self._autosaved_state = self.history.state_id
+            self.history.mark_saved()  # its ``saved`` event updates the modified flag
+        self._check_modified()
 
     def mark_autosaved(self) -> None:
-        self._autosaved_token = self._top()
+        if self.history is not None:
+            self._autosaved_state = self.history.state_id
 
     @property
     def title(self) -> str:

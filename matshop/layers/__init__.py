@@ -30,7 +30,7 @@ from .edits import (
 )
 from .events import DirtyRegion
 from .geometry import Rect, TileLayout
-from .history import History, HistoryReport
+from .history import History, HistoryEvents, HistoryReport
 from .layer import FillLayer, FilterLayer, GroupLayer, Layer, PaintLayer
 from .reference import flatten_reference
 from .tiles import TileGrid
@@ -48,6 +48,7 @@ __all__ = [
     "FilterLayer",
     "GroupLayer",
     "History",
+    "HistoryEvents",
     "HistoryReport",
     "Layer",
     "MoveLayer",
