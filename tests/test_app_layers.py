@@ -19,7 +19,8 @@ pytest.importorskip("pytestqt")
 from PySide6.QtCore import QItemSelectionModel, Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from matshop.app.layers_panel import _DEPTH_ROLE, _MASK_ROLE, LayerRowDelegate  # noqa: E402
+from matshop.app.layer_model import DEPTH_ROLE, MASK_ROLE  # noqa: E402
+from matshop.app.layers_panel import LayerRowDelegate  # noqa: E402
 from matshop.app.testing import click, drag, shown_window  # noqa: E402
 from matshop.layers import GroupLayer, PaintLayer  # noqa: E402
 
@@ -81,7 +82,7 @@ def test_group_selected_layers_indent_and_move_out(window) -> None:
     panel = window.layers_panel
     selection = panel.list.selectionModel()
     for layer_id in (first, fill):
-        index = panel.list.model().index(panel.row_of(layer_id), 0)
+        index = panel.index_of(layer_id)
         selection.select(index, QItemSelectionModel.SelectionFlag.Select)
     steps = window.session.steps
     window.actions_by_name["group"].trigger()
@@ -91,8 +92,8 @@ def test_group_selected_layers_indent_and_move_out(window) -> None:
     ids = [layer.id for layer in doc.layers]
     assert ids[-3:] == [first, fill, group.id]  # members just below their group
     assert doc.layer(first).parent == group.id and doc.layer(fill).parent == group.id
-    assert panel.list.item(panel.row_of(fill)).data(_DEPTH_ROLE) == 1
-    assert panel.list.item(panel.row_of(group.id)).data(_DEPTH_ROLE) == 0
+    assert panel.index_of(fill).data(DEPTH_ROLE) == 1
+    assert panel.index_of(group.id).data(DEPTH_ROLE) == 0
     np.testing.assert_allclose(doc.flatten_edit(), flat, atol=1e-6)  # a group passes through
     window.session.set_active_layer(first)
     window.canvas.flush()
@@ -121,9 +122,9 @@ def test_paint_a_mask_through_its_thumbnail_invert_and_remove(window, qtbot) -> 
     window.actions_by_name["add_mask"].trigger()
     assert layer.mask is not None and np.array_equal(doc.flatten_edit(), painted)
     panel = window.layers_panel
-    item = panel.list.item(panel.row_of(layer.id))
-    assert item.data(_MASK_ROLE) is not None
-    rect = LayerRowDelegate.mask_rect(panel.list.visualItemRect(item))
+    row = panel.index_of(layer.id)
+    assert row.data(MASK_ROLE) is not None
+    rect = LayerRowDelegate.mask_rect(panel.list.visualRect(row))
     click(panel.list.viewport(), rect.center())  # select the mask thumbnail
     assert window.session.mask_target
     window.brush_settings.set("radius_px", 30.0)

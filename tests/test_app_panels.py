@@ -41,12 +41,12 @@ def test_rename_hide_blend_and_parameters_through_the_layers_panel(window) -> No
     window.layer_commands.add_paint_layer()
     panel = window.layers_panel
     layer = window.session.active_layer
-    item = panel.list.item(panel.row_of(layer.id))
-    item.setText("Scratches")  # what the inline editor commits
-    assert layer.name == "Scratches"
-    item = panel.list.item(panel.row_of(layer.id))
-    item.setCheckState(Qt.CheckState.Unchecked)
-    assert not layer.visible
+    row = panel.index_of(layer.id)
+    panel.model.setData(row, "Scratches", Qt.ItemDataRole.EditRole)  # what the editor commits
+    assert layer.name == "Scratches" and row.data() == "Scratches"
+    row = panel.index_of(layer.id)
+    panel.model.setData(row, Qt.CheckState.Unchecked, Qt.ItemDataRole.CheckStateRole)
+    assert not layer.visible and row.data(Qt.ItemDataRole.CheckStateRole) == Qt.CheckState.Unchecked
     panel.blend.setCurrentIndex(panel.blend.findData("detail"))
     panel.blend.activated.emit(panel.blend.currentIndex())
     assert layer.blend == "detail" and panel.linear.text() == "linear"

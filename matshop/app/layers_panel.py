@@ -1,7 +1,8 @@
 """The layers panel: the stack (top first), visibility, names, blend, opacity, parameters.
 
-The list is rebuilt from the document whenever it reports a change; every
-user change goes out as an edit through :class:`LayerCommands`. Drag the
+The rows are a :class:`LayerStackModel` over the document's events, so a
+change repaints only the rows it concerns; every user change goes out as an
+edit through :class:`LayerCommands`. Drag the
 rows to reorder, double-click to rename, tick to show or hide. An opacity
 drag is one undo step (sealed on press and release, merged in between).
 Members of a group are indented under it. A layer with a mask shows the
@@ -12,16 +13,15 @@ Paint layers show their painted coverage as the row icon.
 
 from __future__ import annotations
 
-from PySide6.QtCore import QEvent, QModelIndex, QRect, QSize, Qt, QTimer
-from PySide6.QtGui import QAction, QColor, QIcon, QPainter, QPen, QPixmap
+from PySide6.QtCore import QEvent, QItemSelectionModel, QModelIndex, QRect, QSize, Qt
+from PySide6.QtGui import QAction, QColor, QPainter, QPen, QPixmap
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
     QGridLayout,
     QHBoxLayout,
     QLabel,
-    QListWidget,
-    QListWidgetItem,
+    QListView,
     QSizePolicy,
     QStyledItemDelegate,
     QStyleOptionViewItem,
@@ -30,19 +30,14 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..layers import BLEND_MODES, FilterLayer, Layer, PaintLayer
+from ..layers import BLEND_MODES
 from ..material import PARAMETER_KINDS
 from ..tools.widgets import FloatSlider, discard_widget
 from . import theme
-from .icons import icon
 from .layer_commands import LayerCommands
+from .layer_model import DEPTH_ROLE, ID_ROLE, MASK_ROLE, TARGET_ROLE, LayerStackModel
 from .session import DocumentSession
-from .thumbnails import gray_pixmap, grid_thumbnail
 
-_ID_ROLE = Qt.ItemDataRole.UserRole
-_DEPTH_ROLE = Qt.ItemDataRole.UserRole + 1
-_MASK_ROLE = Qt.ItemDataRole.UserRole + 2  # the mask thumbnail (QPixmap) or None
-_TARGET_ROLE = Qt.ItemDataRole.UserRole + 3  # strokes go into this row's mask
 INDENT = 16
 MASK_PX = 24
 _SHORT_NAMES = {
@@ -67,17 +62,6 @@ _SHORT_NAMES = {
 PARAM_COLUMNS = 4
 
 
-def _describe(layer: Layer) -> str:
-    if isinstance(layer, FilterLayer):
-        values = ", ".join(
-            f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
-            for k, v in layer.op_params.items()
-            if not isinstance(v, tuple | list)
-        )
-        return f"{layer.kind} layer: {layer.op} ({values})"
-    return f"{layer.kind} layer"
-
-
 class LayerRowDelegate(QStyledItemDelegate):
     """Indents group members and draws (and takes clicks on) the mask thumbnail."""
 
@@ -93,17 +77,17 @@ class LayerRowDelegate(QStyledItemDelegate):
     def _shifted(self, option: QStyleOptionViewItem, index: QModelIndex) -> QStyleOptionViewItem:
         shifted = QStyleOptionViewItem(option)
         shifted.rect = option.rect.adjusted(
-            INDENT * (index.data(_DEPTH_ROLE) or 0), 0, -(MASK_PX + 8), 0
+            INDENT * (index.data(DEPTH_ROLE) or 0), 0, -(MASK_PX + 8), 0
         )
         return shifted
 
     def paint(self, painter: QPainter, option: QStyleOptionViewItem, index: QModelIndex) -> None:
         super().paint(painter, self._shifted(option, index), index)
-        thumb = index.data(_MASK_ROLE)
+        thumb = index.data(MASK_ROLE)
         if isinstance(thumb, QPixmap):
             rect = self.mask_rect(option.rect)
             painter.drawPixmap(rect, thumb)
-            chosen = bool(index.data(_TARGET_ROLE))
+            chosen = bool(index.data(TARGET_ROLE))
             pen = QPen(QColor(theme.ACCENT if chosen else theme.BORDER), 2 if chosen else 1)
             painter.setPen(pen)
             painter.drawRect(rect.adjusted(0, 0, -1, -1))
@@ -111,15 +95,23 @@ class LayerRowDelegate(QStyledItemDelegate):
     def editorEvent(self, event, model, option, index) -> bool:  # noqa: N802 - Qt override
         if (
             event.type() == QEvent.Type.MouseButtonRelease
-            and isinstance(index.data(_MASK_ROLE), QPixmap)
+            and isinstance(index.data(MASK_ROLE), QPixmap)
             and self.mask_rect(option.rect).contains(event.position().toPoint())
         ):
-            self.mask_clicked(index.data(_ID_ROLE))
+            self.mask_clicked(index.data(ID_ROLE))
             return True
         return super().editorEvent(event, model, self._shifted(option, index), index)
 
     def updateEditorGeometry(self, editor, option, index) -> None:  # noqa: N802 - Qt override
         super().updateEditorGeometry(editor, self._shifted(option, index), index)
+
+
+class LayerList(QListView):
+    """The rows; a drag moves one layer (several selected rows are no single move)."""
+
+    def startDrag(self, actions: Qt.DropAction) -> None:  # noqa: N802 - Qt override
+        if len(self.selectionModel().selectedRows()) == 1:
+            super().startDrag(actions)
 
 
 class LayersPanel(QWidget):
@@ -164,7 +156,9 @@ class LayersPanel(QWidget):
         self.param_buttons: dict[str, QToolButton] = {}
         layout.addLayout(self.params_row)
 
-        self.list = QListWidget()
+        self.model = LayerStackModel(session, commands, self)
+        self.list = LayerList()
+        self.list.setModel(self.model)
         self.list.setIconSize(QSize(22, 22))
         self.list.setSelectionMode(QAbstractItemView.SelectionMode.ExtendedSelection)
         self.list.setItemDelegate(LayerRowDelegate(self._mask_clicked, self.list))
@@ -173,9 +167,14 @@ class LayersPanel(QWidget):
             QAbstractItemView.EditTrigger.DoubleClicked
             | QAbstractItemView.EditTrigger.EditKeyPressed
         )
-        self.list.currentItemChanged.connect(self._current_changed)
-        self.list.itemChanged.connect(self._item_changed)
-        self.list.model().rowsMoved.connect(self._rows_moved)
+        self.list.selectionModel().currentChanged.connect(self._current_changed)
+        for signal in (
+            self.model.modelReset,
+            self.model.rowsInserted,
+            self.model.rowsRemoved,
+            self.model.rowsMoved,
+        ):
+            signal.connect(self._show_active_row)  # Qt moved the current row by itself
         layout.addWidget(self.list, 1)
 
         buttons = QHBoxLayout()
@@ -202,14 +201,13 @@ class LayersPanel(QWidget):
                 buttons.addStretch(1)
         layout.addLayout(buttons)
 
-        self._rebuilding = False
-        session.layersChanged.connect(self.refresh)
-        session.activeLayerChanged.connect(self.refresh)
-        session.targetChanged.connect(self.refresh)
-        session.historyChanged.connect(self._refresh_thumbnails)  # strokes end as steps
+        session.layersChanged.connect(self._show_active)
+        session.activeLayerChanged.connect(self._show_active_row)
+        session.activeLayerChanged.connect(self._show_active)
         session.documentReplaced.connect(self._rebuild_param_buttons)
         self._rebuild_param_buttons()
-        self.refresh()
+        self._show_active_row()
+        self._show_active()
 
     # -- showing the document ------------------------------------------------
 
@@ -234,56 +232,20 @@ class LayersPanel(QWidget):
             self.params_row.addWidget(button, row, column)
             self.param_buttons[name] = button
 
-    def refresh(self) -> None:
-        """Rebuild the rows and show the active layer's settings."""
-        doc = self.session.doc
-        self._rebuilding = True
-        self.list.clear()
-        if doc is not None:
-            for layer in reversed(doc.layers):
-                item = QListWidgetItem(icon(f"{layer.kind}_layer"), layer.name)
-                item.setData(_ID_ROLE, layer.id)
-                item.setData(_DEPTH_ROLE, self.commands.depth(layer))
-                self._set_thumbnails(item, layer)
-                item.setFlags(
-                    Qt.ItemFlag.ItemIsSelectable
-                    | Qt.ItemFlag.ItemIsEnabled
-                    | Qt.ItemFlag.ItemIsEditable
-                    | Qt.ItemFlag.ItemIsUserCheckable
-                    | Qt.ItemFlag.ItemIsDragEnabled
-                )
-                checked = Qt.CheckState.Checked if layer.visible else Qt.CheckState.Unchecked
-                item.setCheckState(checked)
-                item.setToolTip(_describe(layer))
-                self.list.addItem(item)
-                if layer.id == self.session.active_layer_id:
-                    self.list.setCurrentItem(item)
-        self._rebuilding = False
-        self._show_active()
-
-    def _set_thumbnails(self, item: QListWidgetItem, layer: Layer) -> None:
-        if isinstance(layer, PaintLayer) and layer.pixels is not None and len(layer.pixels):
-            item.setIcon(QIcon(gray_pixmap(grid_thumbnail(layer.pixels, -1))))
-        mask = None
-        if layer.mask is not None:
-            mask = gray_pixmap(grid_thumbnail(layer.mask, 0), invert=layer.mask_inverted)
-        item.setData(_MASK_ROLE, mask)
-        target = self.session.mask_target and layer.id == self.session.active_layer_id
-        item.setData(_TARGET_ROLE, target)
-
-    def _refresh_thumbnails(self) -> None:
-        doc = self.session.doc
-        if doc is None:
-            return
-        for row in range(self.list.count()):
-            item = self.list.item(row)
-            try:
-                layer = doc.layer(item.data(_ID_ROLE))
-            except KeyError:
-                continue
-            self._rebuilding = True
-            self._set_thumbnails(item, layer)
-            self._rebuilding = False
+    def _show_active_row(self, *_args) -> None:
+        """The active layer's row is the current one."""
+        layer_id = self.session.active_layer_id
+        try:
+            index = self.model.index(self.model.row_of(layer_id)) if layer_id is not None else None
+        except KeyError:
+            return  # inserted into the document, not yet into the model: rowsInserted comes
+        if index is None:
+            self.list.setCurrentIndex(QModelIndex())
+        elif index != self.list.currentIndex():
+            # just that row: the view's own choice would follow the keyboard's modifiers
+            self.list.selectionModel().setCurrentIndex(
+                index, QItemSelectionModel.SelectionFlag.ClearAndSelect
+            )
 
     def _mask_clicked(self, layer_id: int) -> None:
         """The mask thumbnail: paint the mask (again: back to the layer's pixels)."""
@@ -292,7 +254,7 @@ class LayersPanel(QWidget):
         self.session.set_mask_target(on)
 
     def selected_ids(self) -> list[int]:
-        return [item.data(_ID_ROLE) for item in self.list.selectedItems()]
+        return [index.data(ID_ROLE) for index in self.list.selectionModel().selectedRows()]
 
     def _show_active(self) -> None:
         layer = self.session.active_layer
@@ -309,43 +271,17 @@ class LayersPanel(QWidget):
             button.setChecked(name in affected)
 
     def row_of(self, layer_id: int) -> int:
-        for row in range(self.list.count()):
-            if self.list.item(row).data(_ID_ROLE) == layer_id:
-                return row
-        raise KeyError(layer_id)
+        return self.model.row_of(layer_id)
+
+    def index_of(self, layer_id: int) -> QModelIndex:
+        """The model index of a layer's row (for tests and scripts)."""
+        return self.model.index(self.model.row_of(layer_id))
 
     # -- user changes ----------------------------------------------------------
 
-    def _current_changed(self, item: QListWidgetItem | None, _previous=None) -> None:
-        if not self._rebuilding and item is not None:
-            self.session.set_active_layer(item.data(_ID_ROLE))
-
-    def _item_changed(self, item: QListWidgetItem) -> None:
-        if self._rebuilding or self.session.doc is None:
-            return
-        layer = self.session.doc.layer(item.data(_ID_ROLE))
-        visible = item.checkState() == Qt.CheckState.Checked
-        if visible != layer.visible:
-            self.commands.set_property(layer.id, "visible", visible)
-        elif item.text().strip() and item.text() != layer.name:
-            self.commands.set_property(layer.id, "name", item.text().strip())
-
-    def _rows_moved(self, _parent, start: int, end: int, _dest, row: int) -> None:
-        if self._rebuilding or self.session.doc is None:
-            return
-        if end != start:  # several rows dragged at once: not a single move
-            QTimer.singleShot(0, self.refresh)
-            return
-        count = self.list.count()
-        target_row = row - 1 if row > start else row  # Qt gives the row before removal
-        layer_id = self.list.item(target_row).data(_ID_ROLE)
-        # rows run top-first, the stack bottom-first; apply once Qt has finished
-        # its drop (the edit rebuilds the list, which must not happen inside it)
-        QTimer.singleShot(0, lambda: self._move(layer_id, count - 1 - target_row))
-
-    def _move(self, layer_id: int, index: int) -> None:
-        self.commands.move(layer_id, index)
-        self.refresh()  # also when the move was refused: show the real order again
+    def _current_changed(self, current: QModelIndex, _previous: QModelIndex) -> None:
+        if not self.model.updating and current.isValid():
+            self.session.set_active_layer(current.data(ID_ROLE))
 
     def _blend_chosen(self, index: int) -> None:
         layer = self.session.active_layer
