@@ -1,8 +1,8 @@
 """The window's actions (one QAction per command, shared by menus, toolbars and panels).
 
 :func:`build_actions` makes them with their shortcuts; :func:`build_menus`
-arranges them. Which are enabled is decided in one place,
-:meth:`MainWindow.update_actions`.
+arranges them. Which are enabled is decided by one predicate per action in
+:mod:`.action_rules`, applied by :meth:`MainWindow.update_actions`.
 """
 
 from __future__ import annotations
