@@ -212,7 +212,7 @@ def test_dragging_a_row_is_one_move_edit(window) -> None:
     assert rows_shown(panel) == rows_from_the_document(doc)
 
 
-def test_the_views_checkbox_and_inline_editor_are_edits(window) -> None:
+def test_the_views_checkbox_and_inline_editor_are_edits(window, qtbot) -> None:
     from PySide6.QtWidgets import QLineEdit, QStyle, QStyleOptionViewItem
 
     from matshop.app.testing import click
@@ -235,7 +235,8 @@ def test_the_views_checkbox_and_inline_editor_are_edits(window) -> None:
     panel.list.edit(index)  # the inline editor, as a double click opens it
     (editor,) = panel.list.viewport().findChildren(QLineEdit)
     editor.setText("Scratches")
-    panel.list.itemDelegate().commitData.emit(editor)  # what Return or leaving it does
+    qtbot.keyClick(editor, Qt.Key.Key_Return)
+    QApplication.processEvents()  # the delegate commits on Return through a queued call
     assert window.session.doc.layer(layer_id).name == "Scratches"
     assert window.history_panel.labels()[-1] == "Rename layer"
     assert rows_shown(panel) == rows_from_the_document(window.session.doc)
