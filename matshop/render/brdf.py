@@ -93,8 +93,8 @@ def sampled_d(theta: np.ndarray, table: np.ndarray) -> np.ndarray:
     limited so ``D >= 0`` at the bin's ends. So ``integral D (h.n) dw`` is
     exactly the table's mass, and a highlight shows no rings at the bin edges.
     (Linear interpolation between bin centres added mass to narrow lobes: 1.050
-    at GGX alpha 0.01; reading the bins as steps drew rings.) The GPU reads its
-    lookup segments the same way (``viewport.gl.shaders.SAMPLED_LOBE``).
+    at GGX alpha 0.01; reading the bins as steps drew rings.) The GPU reads the
+    same table the same way (``viewport.gl.shaders.SAMPLED_LOBE``).
     """
     table = np.asarray(table)
     n = table.shape[-1]

@@ -185,6 +185,22 @@ def _lobe(material: Material) -> tuple[str, np.ndarray]:
     return "ggx", np.full((h, w, 1), DEFAULT_ALPHA, dtype=np.float32)
 
 
+def sampled_space(n_bins: int):
+    """The sampled space of tables with ``n_bins`` bins (the registered one for 128)."""
+    space = get_space("sampled")
+    if n_bins != space.phys_channels:
+        from ..spaces.sampled import SampledDistributionSpace
+
+        space = SampledDistributionSpace(n_bins)
+    return space
+
+
+def lobe_quantiles(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Tabulated lobes ``(H, W, N)`` -> their inverse CDF ``(H, W, M)`` float32 and its levels."""
+    space = sampled_space(table.shape[-1])
+    return space.to_edit(table).astype(np.float32), space.y
+
+
 def prepare(material: Material, *, uv_per_pixel: float = 0.0) -> SurfaceMaps:
     """Shading inputs of ``material``, prefiltered for a view with ``uv_per_pixel``."""
     maps, (h, w) = material.maps, material.size
@@ -218,13 +234,7 @@ def prepare(material: Material, *, uv_per_pixel: float = 0.0) -> SurfaceMaps:
     lobe = reduce(lobe)
     quantiles = levels = None
     if family == "sampled":
-        space = get_space("sampled")
-        if lobe.shape[2] != space.phys_channels:
-            from ..spaces.sampled import SampledDistributionSpace
-
-            space = SampledDistributionSpace(lobe.shape[2])
-        quantiles = space.to_edit(lobe).astype(np.float32)
-        levels = space.y
+        quantiles, levels = lobe_quantiles(lobe)
     profile_space = material.schema["profile"].space if "profile" in maps else None
     return SurfaceMaps(
         kd=reduce(kd),

@@ -6,8 +6,8 @@ by pixel (``tests/test_viewport_gl.py``):
 
 - BRDF: ``kd/pi + F(ks, i.h) D(h) G(i, o) / (4 |i.n| |o.n|)``, Schlick F,
   Cook-Torrance G, D in GGX / Beckmann / Phong / Ashikhmin-Shirley
-  (:mod:`matshop.render.brdf`), and the sampled family from a 16-level lookup
-  of its inverse CDF (:mod:`.shading_maps` says how, and what it approximates);
+  (:mod:`matshop.render.brdf`), and the sampled family from its table and its
+  inverse CDF, read as the reference reads them (:mod:`.sampled_lobe`);
 - environment specular: the *same* filtered importance sampling as the
   reference (not split-sum): the same Hammersley set of ``N`` points mapped
   through the texel's lobe, each sample reading the environment's box-filtered
@@ -88,66 +88,91 @@ vec4 display(vec3 radiance) {
 }
 """
 
-#: the sampled lobe read from its 16-level inverse-CDF lookup (tests probe it alone)
+#: the sampled lobe: D read from its table, samples placed by its inverse CDF, both as the
+#: reference reads them (tests probe it alone; the probe declares u_texture_lod)
 SAMPLED_LOBE = """
-// ---- the sampled lobe of this pixel: its inverse CDF as x = sin^2 theta at 18 nodes,
-// y = 0, (j + 1/2) / 16 for j = 0..15, 1 (shading_maps.quantile_table)
-float g_x[18];
+// ---- D: the table itself (shading_maps: 4 bins a layer of u_distribution), read
+// as the reference reads it (matshop.render.brdf.sampled_d)
+uniform sampler2DArray u_distribution;
+uniform int u_bins;
+vec2 g_st;           // this pixel's texture coordinate and its screen derivatives,
+vec2 g_st_dx;        // taken in main (uniform control flow) so the table can be read
+vec2 g_st_dy;        // inside the lights' loop at the hardware's own level
 
-float node_y(int k) {
-    return k == 0 ? 0.0 : (k == 17 ? 1.0 : (float(k) - 0.5) / 16.0);
+float bin_d(int k) {
+    k = clamp(k, 0, u_bins - 1);
+    vec3 at = vec3(g_st, float(k / 4));
+    vec4 four = u_texture_lod < 0.0 ? textureGrad(u_distribution, at, g_st_dx, g_st_dy)
+                                    : textureLod(u_distribution, at, u_texture_lod);
+    return four[k % 4];
 }
 
-// D of the segment k: the CDF is linear in x there, and dx dphi / 2 is the
-// projected solid angle, so D = (dy / dx) / pi
-float segment_d(int k) {
-    return (node_y(k + 1) - node_y(k)) / (PI * max(g_x[k + 1] - g_x[k], 1e-7));
+float bin_edge_x(int k) {
+    float s = sin(float(k) * (0.5 * PI) / float(u_bins));
+    return s * s;
 }
 
-// D at node k for the samples' pdf (it only picks the environment's mip level):
-// dy / dx over the two segments that meet there, the central estimate of the fine
-// table's slope at the very points the samples sit on (a segment's own D, or its
-// ends, are one-sided there)
-float node_d(int k) {
-    if (k <= 0) return segment_d(0);
-    if (k >= 17) return segment_d(16);
-    return (node_y(k + 1) - node_y(k - 1)) / (PI * max(g_x[k + 1] - g_x[k - 1], 1e-7));
-}
-
-// D inside segment k (0-15): linear about the segment's mean, slope from the
-// neighbours (minmod, limited so D >= 0 at the segment's ends); segment 0 is flat
-float linear_d(int k, float x) {
-    float d = segment_d(k);
-    if (k == 0) return d;
-    float mid = 0.5 * (g_x[k] + g_x[k + 1]);
-    float left = (d - segment_d(k - 1)) / max(mid - 0.5 * (g_x[k - 1] + g_x[k]), 1e-9);
-    float right = (segment_d(k + 1) - d) / max(0.5 * (g_x[k + 1] + g_x[k + 2]) - mid, 1e-9);
-    float slope = left * right > 0.0 ? (abs(left) < abs(right) ? left : right) : 0.0;
-    float limit = 2.0 * d / max(g_x[k + 1] - g_x[k], 1e-9);
+// D at the half vector h: bin k of theta_h keeps exactly its mass, linear in
+// x = sin^2 theta about its mean with the smaller slope to its neighbours' means
+// (minmod; flat at an extremum and in the end bins), limited so D >= 0 at its ends
+float sampled_d(vec3 h) {
+    float x = dot(h.xy, h.xy);  // sin^2 theta without 1 - cos^2's cancellation
+    int k = clamp(int(atan(sqrt(x), h.z) * float(u_bins) / (0.5 * PI)), 0, u_bins - 1);
+    // the bin by its own edges (atan's rounding could put x one bin off them)
+    if (k > 0 && x < bin_edge_x(k)) --k;
+    if (k < u_bins - 1 && x >= bin_edge_x(k + 1)) ++k;
+    float d = bin_d(k);
+    float lo = bin_edge_x(k);
+    float hi = bin_edge_x(k + 1);
+    float mid = 0.5 * (lo + hi);
+    float slope = 0.0;
+    if (k > 0 && k < u_bins - 1) {
+        float left = (d - bin_d(k - 1)) / (mid - 0.5 * (bin_edge_x(k - 1) + lo));
+        float right = (bin_d(k + 1) - d) / (0.5 * (hi + bin_edge_x(k + 2)) - mid);
+        if (left * right > 0.0) slope = abs(left) < abs(right) ? left : right;
+    }
+    float limit = 2.0 * abs(d) / (hi - lo);
     return max(d + clamp(slope, -limit, limit) * (x - mid), 0.0);
 }
 
-// D in the last segment (the tail, from the last node to grazing): continuous with
-// segment 15's end and falling as a power of (1 - x) chosen so the segment holds
-// exactly its mass dy (a constant there flattened long tails: GGX alpha 0.06 read
-// 0.011 instead of 0.087 at 20 degrees); constant if that would have to rise
-float tail_d(float x) {
-    float d0 = linear_d(15, g_x[16]);
-    float w = max(1.0 - g_x[16], 1e-7);
-    float power = PI * d0 * w / (node_y(17) - node_y(16)) - 1.0;
-    if (power <= 0.0) return segment_d(16);
-    return d0 * pow(clamp((1.0 - x) / w, 0.0, 1.0), power);
+// ---- sampling: the inverse CDF, theta at the 32 of the space's levels around the 16
+// samples' u1 (sampled_lobe: the layers after the table's), y = 0 and 1 implied
+uniform float u_node_y[32];
+float g_theta[34];
+
+float node_y(int k) {
+    return k == 0 ? 0.0 : (k == 33 ? 1.0 : u_node_y[k - 1]);
 }
 
-// D at x: each segment keeps exactly its mass dy, so integral D (h.n) dw = 1, and the
-// highlight has no steps at the 17 nodes (smoothing *across* segments added mass to
-// narrow lobes: 3.19 at GGX alpha 0.01)
-float sampled_d(float x) {
+void load_nodes() {
+    int first = (u_bins + 3) / 4;
+    g_theta[0] = 0.0;
+    for (int layer = 0; layer < 8; ++layer) {
+        vec3 at = vec3(g_st, float(first + layer));
+        vec4 four = u_texture_lod < 0.0 ? texture(u_distribution, at)
+                                        : textureLod(u_distribution, at, u_texture_lod);
+        for (int c = 0; c < 4; ++c) {
+            int k = 4 * layer + c;
+            // non-monotone texels (filtering, edits) are legal: sort by a running max
+            g_theta[k + 1] = clamp(max(four[c], g_theta[k]), 0.0, 0.5 * PI);
+        }
+    }
+    g_theta[33] = 0.5 * PI;
+}
+
+// theta(y) linear between the nodes around y, and the pdf per steradian of h from
+// that segment's slope (matshop.render.sampling.sample_quantiles)
+float sampled_theta(float y, out float pdf) {
     int k = 0;
-    while (k < 16 && x >= g_x[k + 1]) ++k;
-    return k == 16 ? tail_d(x) : linear_d(k, x);
+    while (k < 32 && y >= node_y(k + 1)) ++k;
+    float y0 = node_y(k);
+    float dy = node_y(k + 1) - y0;
+    float lo = g_theta[k];
+    float hi = g_theta[k + 1];
+    float theta = clamp(lo + (y - y0) / dy * (hi - lo), 0.0, 0.5 * PI - 1e-6);
+    pdf = dy / max(hi - lo, 1e-9) / (2.0 * PI * max(sin(theta), 1e-6));  // = D cos theta
+    return theta;
 }
-
 """
 
 SURFACE_FRAGMENT = (
@@ -165,10 +190,6 @@ uniform sampler2D u_ks_lobe;      // ks (linear), lobe parameter 0
 uniform sampler2D u_normal_lobe;  // tangent-space normal, lobe parameter 1
 uniform sampler2D u_tangent;      // tangent-space tangent (when u_has_tangent)
 uniform sampler2D u_emissive;     // emissive (when u_has_emissive)
-uniform sampler2D u_q0;           // sampled lobe: sin^2 theta at y = (j + 1/2) / 16, j 0-3
-uniform sampler2D u_q1;           // j 4-7
-uniform sampler2D u_q2;           // j 8-11
-uniform sampler2D u_q3;           // j 12-15
 uniform bool u_has_tangent;
 uniform bool u_has_emissive;
 uniform float u_texture_lod;      // < 0: the hardware's per-pixel level; else this level
@@ -200,23 +221,12 @@ vec3 unit_or_z(vec3 v) {
 """
     + SAMPLED_LOBE
     + """
-void load_quantiles(vec2 uv) {
-    vec4 q[4] = vec4[4](material(u_q0, uv), material(u_q1, uv), material(u_q2, uv),
-                        material(u_q3, uv));
-    g_x[0] = 0.0;
-    for (int k = 0; k < 16; ++k) {
-        // non-monotone texels (filtering, edits) are legal: sort by a running max
-        g_x[k + 1] = clamp(max(q[k / 4][k % 4], g_x[k]), 0.0, 1.0);
-    }
-    g_x[17] = 1.0;
-}
-
 // ---- D(h), normalised over the projected hemisphere (matshop.render.brdf)
 float distribution(vec3 h, vec2 p) {
     if (h.z <= 0.0) return 0.0;
+    if (u_family == 4) return sampled_d(h);
     float c2 = h.z * h.z;
     float s2 = max(1.0 - c2, 0.0);
-    if (u_family == 4) return sampled_d(s2);
     if (u_family == 0) {
         float a2 = p.x * p.x;
         float q = a2 * c2 + s2;
@@ -269,15 +279,9 @@ vec3 sample_lobe(vec2 u, vec2 p, out float pdf) {
     float y = u.x;
     float cos2;
     if (u_family == 4) {
-        // the segment starting at the node at or below y (the reference's searchsorted)
-        int k = clamp(int(floor(16.0 * y + 0.5)), 0, 16);
-        float t = clamp((y - node_y(k)) / (node_y(k + 1) - node_y(k)), 0.0, 1.0);
-        float x = mix(g_x[k], g_x[k + 1], t);
-        float sin_t = sqrt(x);
-        float cos_t = sqrt(max(1.0 - x, 1e-12));
+        float theta = sampled_theta(y, pdf);
         float phi = 2.0 * PI * u.y;
-        pdf = mix(node_d(k), node_d(k + 1), t) * cos_t;
-        return vec3(sin_t * cos(phi), sin_t * sin(phi), cos_t);
+        return vec3(sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta));
     }
     if (u_family == 0) {
         float a2 = p.x * p.x;
@@ -357,7 +361,10 @@ void main() {
     vec3 kd = kd_ao.rgb;
     vec3 ks = ks_lobe.rgb;
     vec2 lobe = vec2(ks_lobe.a, normal_lobe.a);
-    if (u_family == 4) load_quantiles(v_uv);
+    g_st = vec2(v_uv.x, 1.0 - v_uv.y);
+    g_st_dx = dFdx(g_st);
+    g_st_dy = dFdy(g_st);
+    if (u_family == 4) load_nodes();
 
     // shading frame (matshop.render.integrator.shading_frame)
     vec3 nl = unit_or_z(normal_lobe.xyz);
@@ -558,6 +565,13 @@ class Program:
             GL.glUniform4fv(loc, 1, array)
         else:
             raise ValueError(f"uniform {name}: unsupported value shape {array.shape}")
+
+    def set_floats(self, name: str, values: np.ndarray) -> None:
+        """Set a ``float name[n]`` uniform array."""
+        loc = self.location(name)
+        if loc >= 0:
+            flat = np.ascontiguousarray(values, dtype=np.float32).ravel()
+            GL.glUniform1fv(loc, flat.size, flat)
 
     def delete(self) -> None:
         GL.glDeleteProgram(self.id)

@@ -9,30 +9,18 @@ dirty-tile path produces the same values as a full upload.
 
 Packed four channels per texture so a shader lookup is few fetches:
 
-==============  ========================================
-``kd_ao``       kd.rgb, ao (1 without an ao map)
-``ks_lobe``     ks.rgb, lobe parameter 0
-``normal_lobe`` tangent-space normal xyz, lobe parameter 1 (AS ``nv``)
-``tangent``     tangent-space tangent xyz, 0 (only with a 6-channel frame)
-``emissive``    emissive rgb, 0 (only with an emissive map)
-``q0``-``q3``   sampled lobes: ``sin^2 theta`` at 16 quantile levels (below)
-==============  ========================================
+================  ========================================
+``kd_ao``         kd.rgb, ao (1 without an ao map)
+``ks_lobe``       ks.rgb, lobe parameter 0
+``normal_lobe``   tangent-space normal xyz, lobe parameter 1 (AS ``nv``)
+``tangent``       tangent-space tangent xyz, 0 (only with a 6-channel frame)
+``emissive``      emissive rgb, 0 (only with an emissive map)
+``distribution``  sampled lobes: the table and its inverse-CDF nodes, a 2D
+                  array texture of RGBA layers (:mod:`.sampled_lobe` says how)
+================  ========================================
 
-Sampled (tabulated) lobes travel as a lookup of their edit value, the
-inverse CDF, cut down from the sampled space's 128 levels to the 16 levels
-``y_j = (j + 1/2) / 16`` -- exactly the ``u1`` of a 16-point Hammersley set,
-so the GPU draws the reference's 16 environment samples exactly (the
-reference's own interpolation, :func:`matshop.render.sampling.sample_quantiles`,
-computes them). The table holds ``x = sin^2 theta`` rather than ``theta``:
-the projected-solid-angle measure is ``cos sin dtheta dphi = dx dphi / 2``, so
-a CDF piecewise linear in ``x`` has the *finite* piecewise-constant density
-``D = (dy / dx) / pi``, which the shader uses for the samples' pdf and, made
-linear inside each segment without changing its mass, for the directional
-lights' ``D(h)`` (so ``integral D (h.n) dw = 1`` as for the space's bins).
-That is the approximation: D is read from 17 segments of the inverse CDF
-instead of the reference's 128-bin table (``tests/test_viewport_gl_lobes.py``
-measures it). ``set_lobe("ggx")`` shows
-a sampled lobe as the GGX lobe with its median angle (``alpha = tan c^-1(1/2)``).
+``set_lobe("ggx")`` shows a sampled lobe as the GGX lobe with its median angle
+(``alpha = tan c^-1(1/2)``).
 
 ``set_lobe`` overrides convert analytic parameters by the usual equivalences
 (Beckmann ``m = alpha``, Phong ``n = 2 / m^2 - 2``).
@@ -46,12 +34,12 @@ import numpy as np
 
 from ...material import Material, Schema
 from ...render.surface import MIN_ROUGHNESS, prepare
+from . import sampled_lobe
 
-QUANTILE_TEXTURES = ("q0", "q1", "q2", "q3")
-TEXTURES = ("kd_ao", "ks_lobe", "normal_lobe", "tangent", "emissive", *QUANTILE_TEXTURES)
+#: textures of several RGBA layers (GL_TEXTURE_2D_ARRAY)
+ARRAY_TEXTURES = ("distribution",)
+TEXTURES = ("kd_ao", "ks_lobe", "normal_lobe", "tangent", "emissive", *ARRAY_TEXTURES)
 FAMILIES = ("ggx", "beckmann", "phong", "ashikhmin_shirley", "sampled")
-#: the quantile levels on the GPU: the u1 of a 16-point Hammersley set
-QUANTILE_LEVELS = (np.arange(16) + 0.5) / 16
 
 
 def _slope(family: str, lobe: np.ndarray) -> np.ndarray:
@@ -101,16 +89,16 @@ def lobe_family(schema: Schema, override: str | None = None) -> str:
 def pack(
     schema: Schema, maps: Mapping[str, np.ndarray], override: str | None = None
 ) -> dict[str, np.ndarray]:
-    """The shading textures ``(h, w, 4)`` float32 of one block of physical maps."""
+    """The shading textures ``(h, w, 4 layers)`` float32 of one block of physical maps."""
     material = Material("block", schema, {name: maps[name] for name in schema.names})
     surface = prepare(material)
     family = surface.family
     lobe = surface.lobe
     target = lobe_family(schema, override)
     h, w = surface.kd.shape[:2]
-    quantiles = None
+    table = None
     if target == "sampled":
-        quantiles = quantile_table(surface.quantiles, surface.levels)
+        table = surface.lobe
         lobe = np.zeros((h, w, 2), np.float32)
     else:
         if family == "sampled":
@@ -127,25 +115,22 @@ def pack(
         out["tangent"] = np.concatenate([surface.tangent, zero], axis=2)
     if surface.emissive is not None:
         out["emissive"] = np.concatenate([surface.emissive, zero], axis=2)
-    if quantiles is not None:
-        for k, name in enumerate(QUANTILE_TEXTURES):
-            out[name] = quantiles[..., 4 * k : 4 * k + 4]
+    if table is not None:
+        out["distribution"] = sampled_lobe.pack(table)
     return {k: np.ascontiguousarray(v, dtype=np.float32) for k, v in out.items()}
 
 
-def quantile_table(quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:
-    """``sin^2 theta`` ``(H, W, 16)`` of tabulated lobes at :data:`QUANTILE_LEVELS`.
-
-    ``quantiles`` ``(H, W, M)`` is the sampled space's edit value at ``levels``;
-    read exactly as the reference's sampler reads it (sorted, clamped, linear
-    in ``theta`` between levels).
-    """
-    from ...render.sampling import sample_quantiles
-
-    h, w, m = quantiles.shape
-    u2 = np.zeros(QUANTILE_LEVELS.size)
-    _, _, hz, _ = sample_quantiles(quantiles.reshape(-1, m), levels, QUANTILE_LEVELS, u2)
-    return np.clip(1.0 - hz * hz, 0.0, 1.0).reshape(h, w, -1).astype(np.float32)
+def mip_chain(
+    packed: Mapping[str, np.ndarray], levels: int, n_bins: int = 0
+) -> dict[str, list[np.ndarray]]:
+    """Each texture of ``packed`` and its ``levels`` 2x2-mean levels (:func:`box_mips`);
+    a sampled lobe's (``n_bins`` bins) nodes are its averaged table's
+    (:func:`.sampled_lobe.renode`), as the reference's prefilter samples the mixture."""
+    out = {name: box_mips(block, levels) for name, block in packed.items()}
+    if "distribution" in out:
+        chain = out["distribution"]
+        out["distribution"] = chain[:1] + [sampled_lobe.renode(t, n_bins) for t in chain[1:]]
+    return out
 
 
 def _median_alpha(quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:
@@ -165,7 +150,7 @@ def present(schema: Schema, family: str | None = None) -> tuple[str, ...]:
     if "emissive" in schema:
         names.append("emissive")
     if (family or lobe_family(schema)) == "sampled":
-        names.extend(QUANTILE_TEXTURES)
+        names.append("distribution")
     return tuple(names)
 
 

@@ -1,15 +1,18 @@
 """The document's shading textures on the GPU, re-uploaded tile by tile.
 
 Storage is RGBA16F (half floats keep linear colors, GGX alpha down to 1e-3 and
-Phong exponents up to 6e4; half the bytes of float32). Mip levels are
-computed on the CPU *per tile* (:func:`.shading_maps.box_mips`) and uploaded
+Phong exponents up to 6e4; half the bytes of float32). A sampled lobe (128
+bins) is a 2D array texture of 40 such layers (:mod:`.sampled_lobe`): 320 bytes
+a texel, 5/8 of what the material's own float32 table holds. Mip levels are
+computed on the CPU *per tile* (:func:`.shading_maps.mip_chain`) and uploaded
 with the tile, so a dab re-uploads its tiles' pyramids and nothing else: no
 ``glGenerateMipmap`` over the whole 2K/4K texture per dab. That needs tiles
 aligned with the mip grid, so the chain stops where a tile is one texel
 (``GL_TEXTURE_MAX_LEVEL = log2(tile)``; a 64-texel tile on a 2K map: 32x32 at
 the coarsest level, fine for any view the viewport offers). A document whose
 size is not a multiple of a power-of-two tile falls back to regenerating the
-mips on the GPU after an update (counted as the base level only).
+mips on the GPU after an update (counted as the base level only; a sampled
+lobe's nodes are then averaged nodes, not its averaged table's).
 
 :attr:`MaterialTextures.bytes_uploaded` counts every byte passed to
 ``glTexImage2D``/``glTexSubImage2D``; ``tests/test_viewport_gl.py`` checks a dab
@@ -25,30 +28,51 @@ import numpy as np
 from OpenGL import GL
 
 from ...layers.geometry import Rect, TileKey
-from . import shading_maps
+from . import sampled_lobe, shading_maps
 from .shaders import FAMILY_CODES
 
-BYTES_PER_TEXEL = 4 * 2  # RGBA16F
-#: texture units: the material's (0-4, and 7-10 for a sampled lobe's quantiles);
-#: the environment's are 5 and 6 (EnvironmentTextures)
+BYTES_PER_TEXEL = 4 * 2  # RGBA16F, per layer
+#: texture units: the material's (0-4, and 7 for a sampled lobe); the environment's
+#: are 5 and 6 (EnvironmentTextures)
 UNITS = {name: unit if unit < 5 else unit + 2 for unit, name in enumerate(shading_maps.TEXTURES)}
 
 
-def _new_texture(width: int, height: int, max_level: int) -> int:
+def _target(layers: int) -> int:
+    return GL.GL_TEXTURE_2D_ARRAY if layers else GL.GL_TEXTURE_2D
+
+
+def _new_texture(width: int, height: int, max_level: int, layers: int = 0) -> int:
+    """An RGBA16F texture with ``max_level`` mip levels; ``layers > 0``: a 2D array of them."""
+    target = _target(layers)
     tex = GL.glGenTextures(1)
-    GL.glBindTexture(GL.GL_TEXTURE_2D, tex)
+    GL.glBindTexture(target, tex)
     for level in range(max_level + 1):
         w, h = max(1, width >> level), max(1, height >> level)
-        GL.glTexImage2D(
-            GL.GL_TEXTURE_2D, level, GL.GL_RGBA16F, w, h, 0, GL.GL_RGBA, GL.GL_HALF_FLOAT, None
-        )
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_BASE_LEVEL, 0)
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MAX_LEVEL, max_level)
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MIN_FILTER, GL.GL_LINEAR_MIPMAP_LINEAR)
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MAG_FILTER, GL.GL_LINEAR)
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_WRAP_S, GL.GL_REPEAT)
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_WRAP_T, GL.GL_REPEAT)
+        if layers:
+            GL.glTexImage3D(
+                target, level, GL.GL_RGBA16F, w, h, layers, 0, GL.GL_RGBA, GL.GL_HALF_FLOAT, None
+            )
+        else:
+            GL.glTexImage2D(
+                target, level, GL.GL_RGBA16F, w, h, 0, GL.GL_RGBA, GL.GL_HALF_FLOAT, None
+            )
+    GL.glTexParameteri(target, GL.GL_TEXTURE_BASE_LEVEL, 0)
+    GL.glTexParameteri(target, GL.GL_TEXTURE_MAX_LEVEL, max_level)
+    GL.glTexParameteri(target, GL.GL_TEXTURE_MIN_FILTER, GL.GL_LINEAR_MIPMAP_LINEAR)
+    GL.glTexParameteri(target, GL.GL_TEXTURE_MAG_FILTER, GL.GL_LINEAR)
+    GL.glTexParameteri(target, GL.GL_TEXTURE_WRAP_S, GL.GL_REPEAT)
+    GL.glTexParameteri(target, GL.GL_TEXTURE_WRAP_T, GL.GL_REPEAT)
     return tex
+
+
+def _sub_image(target: int, level: int, x: int, y: int, data: np.ndarray) -> None:
+    """Write ``data`` ``(h, w, 4 layers)`` half floats at ``(x, y)`` of ``level``."""
+    h, w, c = data.shape
+    if target == GL.GL_TEXTURE_2D:
+        GL.glTexSubImage2D(target, level, x, y, w, h, GL.GL_RGBA, GL.GL_HALF_FLOAT, data)
+        return
+    layered = np.ascontiguousarray(data.reshape(h, w, c // 4, 4).transpose(2, 0, 1, 3))
+    GL.glTexSubImage3D(target, level, x, y, 0, w, h, c // 4, GL.GL_RGBA, GL.GL_HALF_FLOAT, layered)
 
 
 class MaterialTextures:
@@ -70,22 +94,21 @@ class MaterialTextures:
         full = int(math.log2(max(self.width, self.height)))
         self.max_level = int(math.log2(tile)) if aligned else full
         self.names = shading_maps.present(doc.schema, self.family)
+        #: bins of a sampled lobe's table (0: none shown), and each texture's layers
+        self.bins = doc.schema["distribution"].phys_channels if "distribution" in self.names else 0
+        self.layers = {
+            name: sampled_lobe.layers(self.bins) if name in shading_maps.ARRAY_TEXTURES else 0
+            for name in self.names
+        }
         self.textures = {
-            name: _new_texture(self.width, self.height, self.max_level) for name in self.names
+            name: _new_texture(self.width, self.height, self.max_level, self.layers[name])
+            for name in self.names
         }
         # 1x1 stand-ins so every sampler is bound to something valid
-        self._dummy = _new_texture(1, 1, 0)
-        GL.glTexSubImage2D(
-            GL.GL_TEXTURE_2D,
-            0,
-            0,
-            0,
-            1,
-            1,
-            GL.GL_RGBA,
-            GL.GL_FLOAT,
-            np.zeros(4, dtype=np.float32),
-        )
+        self._dummy = {layers: _new_texture(1, 1, 0, layers) for layers in (0, 1)}
+        for layers, tex in self._dummy.items():
+            GL.glBindTexture(_target(layers), tex)
+            _sub_image(_target(layers), 0, 0, 0, np.zeros((1, 1, 4), np.float16))
         self.bytes_uploaded = 0
         self.tiles_uploaded = 0
         self.upload_all()
@@ -96,25 +119,16 @@ class MaterialTextures:
         GL.glPixelStorei(GL.GL_UNPACK_ALIGNMENT, 1)
         sent = 0
         levels = self.max_level if self.tile_mips else 0
+        chain = shading_maps.mip_chain(packed, levels, self.bins)
         for name in self.names:
-            GL.glBindTexture(GL.GL_TEXTURE_2D, self.textures[name])
-            for level, block in enumerate(shading_maps.box_mips(packed[name], levels)):
+            target = _target(self.layers[name])
+            GL.glBindTexture(target, self.textures[name])
+            for level, block in enumerate(chain[name]):
                 data = np.ascontiguousarray(block, dtype=np.float16)
-                h, w = data.shape[:2]
-                GL.glTexSubImage2D(
-                    GL.GL_TEXTURE_2D,
-                    level,
-                    rect.x0 >> level,
-                    rect.y0 >> level,
-                    w,
-                    h,
-                    GL.GL_RGBA,
-                    GL.GL_HALF_FLOAT,
-                    data,
-                )
+                _sub_image(target, level, rect.x0 >> level, rect.y0 >> level, data)
                 sent += data.nbytes
             if not self.tile_mips:
-                GL.glGenerateMipmap(GL.GL_TEXTURE_2D)
+                GL.glGenerateMipmap(target)
         return sent
 
     def _pack(self, rect: Rect) -> dict[str, np.ndarray]:
@@ -151,7 +165,8 @@ class MaterialTextures:
         texels = sum(
             max(1, rect.width >> lv) * max(1, rect.height >> lv) for lv in range(levels + 1)
         )
-        return texels * BYTES_PER_TEXEL * len(self.names)
+        layers = sum(max(1, self.layers[name]) for name in self.names)
+        return texels * BYTES_PER_TEXEL * layers
 
     # -- drawing -----------------------------------------------------------
 
@@ -159,13 +174,17 @@ class MaterialTextures:
         """Bind every material sampler of ``program`` (:data:`UNITS`) and the presence flags."""
         for name in shading_maps.TEXTURES:
             unit = UNITS[name]
+            array = int(name in shading_maps.ARRAY_TEXTURES)
             GL.glActiveTexture(GL.GL_TEXTURE0 + unit)
-            GL.glBindTexture(GL.GL_TEXTURE_2D, self.textures.get(name, self._dummy))
+            GL.glBindTexture(_target(array), self.textures.get(name, self._dummy[array]))
             program.set(f"u_{name}", unit)
+        program.set("u_bins", self.bins)
+        if self.bins:
+            program.set_floats("u_node_y", sampled_lobe.node_levels(self.bins))
         program.set("u_has_tangent", "tangent" in self.textures)
         program.set("u_has_emissive", "emissive" in self.textures)
         program.set("u_family", FAMILY_CODES[self.family])
 
     def delete(self) -> None:
-        GL.glDeleteTextures([*self.textures.values(), self._dummy])
+        GL.glDeleteTextures([*self.textures.values(), *self._dummy.values()])
         self.textures = {}
