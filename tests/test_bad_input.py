@@ -1,5 +1,6 @@
 """Every bad input found by the attack runs: one line naming the file or option, exit 2,
-nothing written; degenerate but valid inputs (a 1x1 set, a tiny blur) just work."""
+nothing written; degenerate but valid inputs (a 1x1 set, a tiny blur) write what the source
+files' own codes say (read with OpenImageIO)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from oracle import file_codes
 
 from matshop.cli import main
 from matshop.io.images import write_image
@@ -66,21 +68,67 @@ def refuses(argv: list[object], capfd: pytest.CaptureFixture[str], *named: objec
 # ------------------------------------------------ degenerate but valid inputs work
 
 
-@pytest.mark.parametrize(
-    "argv",
-    [
-        ["info", "{one}"],
-        ["convert", "{one}", "{out}"],
-        ["apply", "{one}", "{out}", "--op", "blur", "sigma_px=2"],
-        ["apply", "{small}", "{out}", "--op", "blur", "sigma_px=0.05"],
+def _source(folder: Path, tag: str) -> np.ndarray:
+    return file_codes(folder / f"m_{tag}.png")
+
+
+#: what each degenerate run must write, file -> its channels' codes, from the source
+#: files' own codes: convert copies; a blur of a 1x1 set is the identity (a normalised
+#: kernel over one texel, wrapped); sigma 0.05 px is a one-tap kernel (the next tap's
+#: weight is e^-200); glTF packs R ao (none: 1 -> 255), G roughness, B metallic (none: 0)
+COPY = {"m_basecolor.png": "basecolor", "m_roughness.png": "roughness", "m_normal_gl.png": "normal"}
+DEGENERATE = {
+    "1x1-convert": (["convert", "{one}", "{out}"], "one", COPY),
+    "1x1-blur": (["apply", "{one}", "{out}", "--op", "blur", "sigma_px=2"], "one", COPY),
+    "tiny-blur": (["apply", "{small}", "{out}", "--op", "blur", "sigma_px=0.05"], "small", COPY),
+    "1x1-export": (
         ["export", "{one}", "{out}", "--preset", "gltf"],
-        ["new", "{out}.matshop", "--from", "{one}"],
-    ],
-    ids=["1x1-info", "1x1-convert", "1x1-blur", "tiny-blur", "1x1-export", "1x1-new"],
-)
-def test_degenerate_inputs_just_work(argv: list[str], sets: dict, tmp_path: Path) -> None:
-    names = {"one": sets["one"], "small": sets["small"], "out": tmp_path / "out"}
+        "one",
+        {
+            "m_baseColor.png": "basecolor",
+            "m_normal.png": "normal",
+            "m_occlusionRoughnessMetallic.png": (255, "roughness", 0),
+        },
+    ),
+    # a project holds the set: its flattened files are the source's
+    "1x1-new": (["new", "{out}.matshop", "--from", "{one}"], "one", COPY),
+}
+
+
+def _expected(folder: Path, truth: str | tuple) -> np.ndarray:
+    if isinstance(truth, str):
+        return _source(folder, truth)
+    size = _source(folder, "roughness").shape[:2]
+    planes = [np.full(size, t) if isinstance(t, int) else _source(folder, t)[..., 0] for t in truth]
+    return np.stack(planes, axis=-1)
+
+
+@pytest.mark.parametrize("case", sorted(DEGENERATE))
+def test_degenerate_inputs_write_the_source_codes(case: str, sets: dict, tmp_path: Path) -> None:
+    argv, source, files = DEGENERATE[case]
+    out = tmp_path / "out"
+    names = {"one": sets["one"], "small": sets["small"], "out": out}
     assert main([a.format(**names) for a in argv]) == 0
+    if argv[0] == "new":
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["out.matshop"]
+        assert main(["flatten", str(out) + ".matshop", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == sorted(files)
+    for name, truth in files.items():
+        written, expected = file_codes(out / name), _expected(sets[source], truth)
+        assert written.shape == expected.shape, name
+        assert np.abs(written - expected).max() <= 1, (name, written.ravel(), expected.ravel())
+
+
+def test_a_1x1_set_is_described_and_nothing_written(
+    sets: dict, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    assert main(["info", str(sets["one"])]) == 0
+    printed = capsys.readouterr().out
+    assert "1 x 1 texels" in printed
+    for tag in ("basecolor", "roughness", "normal"):
+        assert f"m_{tag}.png" in printed
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_a_tiny_blur_filter_layer_saves_and_flattens(sets: dict, tmp_path: Path) -> None:
@@ -91,12 +139,10 @@ def test_a_tiny_blur_filter_layer_saves_and_flattens(sets: dict, tmp_path: Path)
     # sigma 0.05 px is a one-tap kernel: the flattened set is the source set
     flat = sorted(p.name for p in (tmp_path / "out").iterdir())
     assert flat == ["m_basecolor.png", "m_normal_gl.png", "m_roughness.png"]
-    from matshop.io.images import read_image
-
     for name in ("basecolor", "roughness"):
-        source, _ = read_image(sets["small"] / f"m_{name}.png")
-        written, _ = read_image(tmp_path / "out" / f"m_{name}.png")
-        assert np.abs(source - written).max() <= 1 / 255 + 1e-6
+        source = _source(sets["small"], name)
+        written = file_codes(tmp_path / "out" / f"m_{name}.png")
+        assert np.abs(source - written).max() <= 1
 
 
 # ------------------------------------------------ option and parameter errors
