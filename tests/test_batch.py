@@ -275,7 +275,8 @@ def test_real_scheduler_and_workers_survive_a_killed_worker(library: Path, truth
         runner.start()
         # a task notes its worker's pid when it starts: kill the first worker seen working
         victim = None
-        while victim is None and runner.is_alive():
+        give_up = time.monotonic() + 120  # a batch that hangs ends the polling
+        while victim is None and runner.is_alive() and time.monotonic() < give_up:
             for marker in (
                 (out / ATTEMPTS_DIR).glob("*.starts") if (out / ATTEMPTS_DIR).exists() else ()
             ):

@@ -88,7 +88,9 @@ def sandbox(base: Path) -> Iterator[Path]:
         shutil.rmtree(work, ignore_errors=True)
 
 
-def run_cli(argv: list[object], capfd: pytest.CaptureFixture[str]) -> int:
+def run_cli(argv: list[object], capfd: pytest.CaptureFixture[str], out: Path | None = None) -> int:
+    """Run the real command; a refusal (2) is one line and, saves being all-or-nothing,
+    leaves no file in ``out``."""
     capfd.readouterr()
     start = time.monotonic()
     code = main([str(a) for a in argv])  # an exception here is the traceback a user would see
@@ -98,6 +100,8 @@ def run_cli(argv: list[object], capfd: pytest.CaptureFixture[str]) -> int:
     if code == 2:
         lines = [line for line in err.splitlines() if line.startswith("matshop: error: ")]
         assert len(lines) == 1 and "Traceback" not in err, err
+        if out is not None and out.exists():
+            assert [p for p in out.rglob("*") if not p.is_dir()] == [], err
     return code
 
 
@@ -228,7 +232,9 @@ def test_fuzz_preset_files(
     with sandbox(base) as work:
         preset = work / "preset.json"
         preset.write_text(_dump({"name": name, "maps": maps, "extra": extra}))
-        run_cli(["export", base / "set", work / "out", "--preset-file", preset], capfd)
+        run_cli(
+            ["export", base / "set", work / "out", "--preset-file", preset], capfd, work / "out"
+        )
 
 
 # ------------------------------------------------ op parameters
@@ -309,7 +315,7 @@ def test_fuzz_op_parameters(
             ]
         if params is not None:
             argv += ["--params", params]
-        if run_cli(argv, capfd) == 0:
+        if run_cli(argv, capfd, work / "out") == 0:
             assert len(list((work / "out").iterdir())) == 3
 
 
@@ -364,9 +370,11 @@ def test_fuzz_project_manifests_and_zips(
         verb = data.draw(st.sampled_from(["flatten", "layer-list", "layer-add", "export"]))
         saved = project.read_bytes()
         if verb == "flatten":
-            code = run_cli(["flatten", project, work / "out"], capfd)
+            code = run_cli(["flatten", project, work / "out"], capfd, work / "out")
         elif verb == "export":
-            code = run_cli(["export", project, work / "out", "--preset", "gltf"], capfd)
+            code = run_cli(
+                ["export", project, work / "out", "--preset", "gltf"], capfd, work / "out"
+            )
         elif verb == "layer-list":
             code = run_cli(["layer", "list", project], capfd)
         else:
@@ -416,4 +424,4 @@ def test_fuzz_image_sets(
             raw = raw[:cut]
         image.write_bytes(bytes(raw))
         verb = ["convert", folder, work / "out"] if width % 2 else ["info", folder]
-        run_cli(verb, capfd)
+        run_cli(verb, capfd, work / "out")

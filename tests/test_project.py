@@ -6,6 +6,7 @@ import copy
 import io
 import json
 import os
+import selectors
 import signal
 import subprocess
 import sys
@@ -684,6 +685,15 @@ def _child(tmp_path: Path, source: Path, target: Path, mode: str) -> subprocess.
     )
 
 
+def _first_line(child: subprocess.Popen, timeout_s: float = 120.0) -> str:
+    """The child's first line of output; a child that hangs silently fails the test."""
+    assert child.stdout is not None
+    with selectors.DefaultSelector() as selector:
+        selector.register(child.stdout, selectors.EVENT_READ)
+        assert selector.select(timeout_s), f"no output from the child in {timeout_s:.0f} s"
+    return child.stdout.readline().strip()
+
+
 def _kill(child: subprocess.Popen) -> None:
     os.kill(child.pid, signal.SIGKILL)
     child.wait(timeout=30)
@@ -698,7 +708,7 @@ def test_killing_a_save_mid_write_keeps_the_previous_file(
     before = target.read_bytes()
     child = _child(tmp_path, target, target, "slow")
     try:
-        assert child.stdout is not None and child.stdout.readline().strip() == "writing"
+        assert _first_line(child) == "writing"
         temps = list(tmp_path.glob(".work.tmp-*.matshop"))
         assert len(temps) == 1 and temps[0].stat().st_size > 0  # killed half-way through
     finally:
@@ -716,7 +726,7 @@ def test_killing_repeated_saves_at_random_leaves_a_whole_file(
     child = _child(tmp_path, source, target, "loop")
     rng = np.random.default_rng(714)  # a reproducible kill moment
     try:
-        assert child.stdout is not None and child.stdout.readline().strip() == "saved"
+        assert _first_line(child) == "saved"
         time.sleep(rng.uniform(0.0, 0.5))
     finally:
         _kill(child)

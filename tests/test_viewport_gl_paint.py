@@ -149,9 +149,10 @@ def test_dabs_are_balls_on_the_surface_across_the_seam(painted):
     """One dab centred on the seam paints the same extent on both sides of it."""
     widget, doc, layer, history = painted
     widget.camera.yaw = 180.0
-    x = SIZE / 2
-    while widget.uv_at(x, SIZE / 2)[0] > 0.5:  # step right until the seam is crossed
-        x += 0.25
+    # step right from the centre until the seam is crossed (u falls from ~1 to ~0)
+    steps = np.arange(SIZE / 2, SIZE, 0.25)
+    x = next((x for x in steps if widget.uv_at(x, SIZE / 2)[0] <= 0.5), None)
+    assert x is not None, "no seam right of the centre"
     widget.painter.press(x - 0.25, SIZE / 2)
     widget.painter.release()
     alpha = _alpha(doc, layer)
