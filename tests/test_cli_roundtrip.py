@@ -108,8 +108,18 @@ def test_demo_runs_on_the_bundled_sample(tmp_path: Path) -> None:
     )
     assert result.returncode == 0, result.stderr
     assert "worst error" in result.stdout
-    assert (tmp_path / "roundtrip" / "tiles_basecolor.png").exists()
-    assert (tmp_path / "sampled" / "tiles_distribution.exr").exists()
+    from oracle import file_codes
+
+    # the round trip wrote the source's codes (OpenImageIO on both files)
+    for tag in ("basecolor", "roughness", "metallic", "ao"):
+        written = file_codes(tmp_path / "roundtrip" / f"tiles_{tag}.png")
+        assert np.abs(written - file_codes(SAMPLE / f"tiles_{tag}.png")).max() <= 1, tag
+    # the sampled set's tables are lobes: pi sum d (sin^2 b - sin^2 a) = 1 in every texel
+    table = file_codes(tmp_path / "sampled" / "tiles_distribution.exr").astype(np.float64)
+    assert table.shape[2] == 128
+    edges = np.arange(129) * (np.pi / 2 / 128)
+    mass = np.pi * table @ np.diff(np.sin(edges) ** 2)
+    np.testing.assert_allclose(mass, 1.0, atol=2e-3)
     # the layered part: the project flattens to what the demo wrote
     from matshop.io.material_io import load_material
     from matshop.io.project import load_project
