@@ -91,6 +91,7 @@ def test_mask_invert_white_reveals_black_hides_and_the_status_bar_agrees(window,
     window.swatch_model.set_value("base_color", (0.2, 0.55, 0.85))
     window.brush_settings.set("radius_px", 40.0)
     window.brush_settings.set("hardness", 1.0)
+    underneath = doc.flatten_edit()[250, 250].copy()
     stroke(window, [(250, 250), (251, 250)])  # onto the base fill: a paint layer is added
     layer = window.session.active_layer
     painted = doc.flatten_edit()[250, 250].copy()
@@ -98,6 +99,8 @@ def test_mask_invert_white_reveals_black_hides_and_the_status_bar_agrees(window,
     window.actions_by_name["invert_mask"].trigger()
     assert layer.mask_inverted
     hidden = doc.flatten_edit()[250, 250].copy()
+    # a new (white) mask inverted hides the whole layer: what was underneath shows
+    np.testing.assert_allclose(hidden, underneath, atol=1e-6)
     assert not np.allclose(hidden, painted)
     window.session.set_mask_target(True)  # the mask thumbnail is selected
     window.brush_settings.set("radius_px", 6.0)

@@ -22,11 +22,15 @@ C = SCHEMA.edit_width
 H, W, TILE = 40, 56, 16
 
 
+def base_values() -> np.ndarray:
+    """The base layer's texels: what a document whose other layers all vanish shows."""
+    return np.random.default_rng(1).uniform(0.1, 0.9, (H, W, C)).astype(np.float32)
+
+
 def base_doc() -> tuple[Document, History]:
     doc = Document(SCHEMA, H, W, tile_size=TILE)
     history = History(doc)
-    base = np.random.default_rng(1).uniform(0.1, 0.9, (H, W, C)).astype(np.float32)
-    history.push(AddLayer(doc.new_fill_layer("base", source=base)))
+    history.push(AddLayer(doc.new_fill_layer("base", source=base_values())))
     return doc, history
 
 
@@ -142,7 +146,8 @@ def test_membership_changes_are_undoable_and_validated() -> None:
     add(doc, history, member, 1)
     alone = check(doc)
     history.push(SetProperty(member.id, "parent", group.id))
-    assert not np.array_equal(check(doc), alone)  # opacity 0 group: the member vanishes
+    assert np.array_equal(check(doc), base_values())  # opacity 0 group: the member vanishes
+    assert not np.array_equal(alone, base_values())  # (it showed before)
     history.undo()
     assert np.array_equal(check(doc), alone)
     with pytest.raises(ValueError, match="not a group"):
@@ -187,7 +192,8 @@ def test_undo_can_restore_membership_of_a_removed_group() -> None:
     second = doc.new_group_layer("G2", opacity=0.0)
     add(doc, history, second)
     history.push(SetProperty(member.id, "parent", second.id))
-    assert not np.array_equal(check(doc), alone)
+    assert np.array_equal(check(doc), base_values())  # in an opacity 0 group it vanishes
+    assert not np.array_equal(alone, base_values())
     history.undo()  # back to the id of the removed G1: no group
     assert member.parent == first.id
     history.undo()
