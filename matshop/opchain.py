@@ -3,7 +3,9 @@
 ``matshop apply`` (words on the command line), ``matshop batch`` (a TOML
 recipe) and scripts build the same :class:`Step` list and run it through
 :func:`run_steps`, so one set edited either way gives byte-identical files.
-Validation is the op registry's own (``OpSpec.parse_args`` / ``bind``).
+The editor takes the same list as filter layers (:func:`filter_layers`), which
+flatten to the same bytes. Validation is the op registry's own
+(``OpSpec.parse_args`` / ``bind``).
 """
 
 from __future__ import annotations
@@ -14,7 +16,11 @@ from pathlib import Path
 from typing import Any
 
 from .api import EditableMaterial, load_mask
+from .errors import MatshopError
+from .layers import Document
+from .layers.layer import FilterLayer
 from .ops import get_op
+from .ops.selection import resolve_params
 
 
 @dataclass(frozen=True)
@@ -66,3 +72,35 @@ def run_steps(
         if progress is not None:
             progress(done, len(steps))
     return material
+
+
+def filter_layers(
+    doc: Document,
+    steps: Sequence[Step],
+    *,
+    mask_loader: Callable[[Path, tuple[int, int]], Any] = load_mask,
+) -> list[FilterLayer]:
+    """``steps`` as filter layers of ``doc``, bottom first, to insert on top of it.
+
+    Each layer runs its step's op with the same settings on the same parameters,
+    masked by the same image, so the document flattens to what :func:`run_steps`
+    gives the flattened material (the same bytes: both run the op on the whole
+    composite below and blend by the mask). Ops that need another texture set
+    (composite, clone) are refused: a filter layer has only the composite below it.
+    """
+    masks: dict[Path, Any] = {}
+    layers = []
+    for number, step in enumerate(steps, 1):
+        if get_op(step.op).inputs:
+            raise MatshopError(
+                f"step {number} ({step.op}) needs another texture set: not a filter layer"
+            )
+        params = None if step.params is None else list(step.params)
+        names = tuple(resolve_params(doc.schema, params, step.op))
+        layer = doc.new_filter_layer(step.op, op_params=step.values, parameters=names)
+        if step.mask is not None:
+            if step.mask not in masks:
+                masks[step.mask] = doc.new_mask(array=mask_loader(step.mask, doc.size))
+            layer.put("mask", masks[step.mask])  # set as the project reader does
+        layers.append(layer)
+    return layers

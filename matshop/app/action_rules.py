@@ -60,6 +60,7 @@ ENABLED_WHEN: dict[str, Rule] = {
     "add_paint": document_open,
     "add_fill": document_open,
     "add_filter": document_open,
+    "add_recipe": document_open,
     "curves": document_open,
     "fit": document_open,
     "actual": document_open,

@@ -34,6 +34,7 @@ from PySide6.QtCore import QObject, QThreadPool, QTimer, Signal
 
 from ..layers import AddLayer, CompoundEdit, Document, SetProperty
 from .session import DocumentSession
+from .work import start_worker
 
 
 @dataclass
@@ -162,7 +163,7 @@ class BackgroundFlatten(QObject):
             job.seconds = time.perf_counter() - job.started
             self._relay.done.emit(job)
 
-        self.pool.start(run)
+        start_worker(self.pool, run)
 
     def _finished(self, job: _Job) -> None:
         self.job = None

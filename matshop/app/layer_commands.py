@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from functools import cache
+from pathlib import Path
 from typing import Any, TypeVar
 
 from PySide6.QtCore import QObject, Signal
@@ -120,6 +121,38 @@ class LayerCommands(QObject):
         if layer is None:
             return None
         return layer.id if self._push(AddLayer(layer, self._above_active())) else None
+
+    def add_recipe_layers(self, path: Path | None) -> list[int]:
+        """The op chain of a batch recipe as filter layers above the active one (one step).
+
+        The layers are :func:`matshop.opchain.filter_layers`' own, so the document
+        flattens to the bytes ``matshop apply`` and ``matshop batch`` write for it.
+        """
+        doc = self.session.doc
+        if doc is None or path is None:
+            return []
+        from ..batch.recipe import load_recipe
+        from ..opchain import filter_layers
+
+        def read() -> tuple[Any, list[Layer]]:
+            recipe = load_recipe(path)
+            if recipe.look is not None:
+                raise MatshopError("a .matshop look: open it as a project instead", path)
+            return recipe, filter_layers(doc, recipe.steps)
+
+        made = self._attempt(read)
+        if made is None:
+            return []
+        recipe, layers = made
+        index = self._above_active()
+        adds = [
+            AddLayer(layer, None if index is None else index + n) for n, layer in enumerate(layers)
+        ]
+        if not self._push(CompoundEdit(adds, f"Add Recipe {path.name}")):
+            return []
+        note = "; its [export] table is for matshop batch" if recipe.export is not None else ""
+        self.message.emit(f"Added {len(layers)} filter layer(s) from {path.name}{note}")
+        return [layer.id for layer in layers]
 
     def duplicate_active(self) -> int | None:
         """A copy of the active layer just above it (its tiles shared, copy-on-write)."""

@@ -25,6 +25,7 @@ from ..render.integrator import DirectionalLight
 from ..render.render import render
 from ..viewport.canvas import TextureCanvas
 from .session import DocumentSession
+from .work import start_worker
 
 #: Longest side of the rendered swatch (the canvas scales it to the texture).
 MAX_SIZE = 512
@@ -162,7 +163,7 @@ class LitPreview(QObject):
             except RuntimeError:  # the window (and the relay) went away while rendering
                 pass
 
-        self.pool.start(run)
+        start_worker(self.pool, run)
 
     def _finished(self, job: _Job) -> None:
         self.job = None

@@ -79,6 +79,12 @@ def build_actions(w: EditorWindow) -> dict[str, QAction]:
             icon_name="filter_layer",
             tip="New filter layer (blur, curves, bilateral...)",
         ),
+        "add_recipe": _action(
+            w,
+            "Add Layers from &Recipe...",
+            lambda: layers.add_recipe_layers(w.prompts.open_recipe()),
+            tip="The op chain of a matshop batch recipe (.toml) as filter layers",
+        ),
         "curves": _action(
             w,
             "&Curves...",
@@ -182,7 +188,7 @@ def build_menus(w: EditorWindow, a: dict[str, QAction]) -> None:
     layer_menu = bar.addMenu("&Layer")
     layer_menu.addActions([a["add_paint"], a["add_fill"]])
     layer_menu.addMenu(w.filter_menu)
-    layer_menu.addAction(a["curves"])
+    layer_menu.addActions([a["curves"], a["add_recipe"]])
     layer_menu.addSeparator()
     layer_menu.addActions([a["duplicate"], a["group"], a["ungroup"]])
     layer_menu.addSeparator()

@@ -18,6 +18,7 @@ SaveAnswer = Literal["save", "discard", "cancel"]
 
 IMAGE_FILTER = "*.png *.jpg *.jpeg *.tga *.tif *.tiff *.exr *.hdr *.bmp"
 MESH_FILTER = "Meshes (*.obj *.gltf *.glb);;All files (*)"
+RECIPE_FILTER = "Recipes (*.toml);;All files (*)"
 OPEN_FILTER = (
     f"Projects and textures (*.matshop {IMAGE_FILTER});;matshop projects (*.matshop);;"
     f"Texture maps ({IMAGE_FILTER});;All files (*)"
@@ -95,6 +96,10 @@ class Prompts:
 
     def open_mesh(self, start: str = "") -> Path | None:
         path, _ = QFileDialog.getOpenFileName(self.parent, "Open mesh", start, MESH_FILTER)
+        return Path(path) if path else None
+
+    def open_recipe(self, start: str = "") -> Path | None:
+        path, _ = QFileDialog.getOpenFileName(self.parent, "Recipe", start, RECIPE_FILTER)
         return Path(path) if path else None
 
     def open_folder(self, start: str = "") -> Path | None:

@@ -34,6 +34,7 @@ class ScriptedPrompts(Prompts):
         self.save_path: Path | None = None
         self.open_path: Path | None = None
         self.mesh_path: Path | None = None
+        self.recipe_path: Path | None = None
         self.folder: Path | None = None
         self.preset: str | None = None
         #: the review of a texture set: returns the set to open (corrected) or None (cancel)
@@ -76,6 +77,10 @@ class ScriptedPrompts(Prompts):
     def open_mesh(self, start: str = "") -> Path | None:
         self.asked.append(("open_mesh", start))
         return self.mesh_path
+
+    def open_recipe(self, start: str = "") -> Path | None:
+        self.asked.append(("open_recipe", start))
+        return self.recipe_path
 
     def open_folder(self, start: str = "") -> Path | None:
         self.asked.append(("open_folder", start))

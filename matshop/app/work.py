@@ -14,10 +14,18 @@ without a window manager.
 
 The function must touch nothing the GUI thread changes meanwhile: callers
 hand it new objects (a path) or a :meth:`Document.snapshot`.
+
+Every task goes to the pool through :func:`start_worker`, which makes sure the
+worker thread never drops the last reference to what the task holds (Qt objects
+among them): a Qt object released on a worker disconnects its signals there,
+which takes Qt's connection lock and then waits for Python's; the GUI thread,
+holding Python's lock while it connects a signal, waits for Qt's: the editor
+froze that way when a window closed while its background flatten ran.
 """
 
 from __future__ import annotations
 
+import queue
 import threading
 import time
 from collections.abc import Callable
@@ -40,6 +48,57 @@ T = TypeVar("T")
 SHOW_AFTER_MS = 400
 #: progress reports closer together than this are merged (signals cost GUI time)
 _REPORT_EVERY_S = 0.05
+
+
+class _Reaper(QObject):
+    """Releases on the GUI thread what finished worker tasks held."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        #: tasks handed back by their workers (a plain queue: no Qt on the worker side)
+        self.finished: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
+        self.in_flight = 0
+        self.timer = QTimer(self)
+        self.timer.setInterval(100)
+        self.timer.timeout.connect(self.drain)
+
+    def drain(self) -> None:
+        while True:
+            try:
+                task = self.finished.get_nowait()
+            except queue.Empty:
+                break
+            self.in_flight -= 1
+            del task  # the last reference, dropped here on the GUI thread
+        if self.in_flight == 0:
+            self.timer.stop()
+
+
+_reaper: _Reaper | None = None
+
+
+def start_worker(pool: QThreadPool, task: Callable[[], None]) -> None:
+    """Run ``task()`` on ``pool``; what it holds is released on the GUI thread, not the worker's.
+
+    Call from the GUI thread. The worker hands the task back through a plain queue
+    when it returns; a timer on the GUI thread drops it from there.
+    """
+    global _reaper
+    if _reaper is None:
+        _reaper = _Reaper()
+    reaper = _reaper
+    held = [task]
+    handback = reaper.finished
+
+    def run() -> None:  # on the worker thread; holds no reference once it returns
+        try:
+            held[-1]()
+        finally:
+            handback.put(held.pop())
+
+    reaper.in_flight += 1
+    reaper.timer.start()
+    pool.start(run)
 
 
 class Cancelled(Exception):
@@ -193,7 +252,7 @@ def run_off_ui(
         work._relay.done.emit()
 
     appear.start()
-    (pool or QThreadPool.globalInstance()).start(run)
+    start_worker(pool or QThreadPool.globalInstance(), run)
     try:
         loop.exec()
     finally:

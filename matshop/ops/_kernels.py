@@ -16,13 +16,16 @@ from numba import njit, prange
 def lerp(a, b, mask, out):
     """``out = (1 - mask) * a + mask * b``, mask ``(H, W)`` broadcast over channels.
 
-    Written with both weights so mask 0 and 1 give ``a`` and ``b`` bit-exactly.
+    Written with both weights so mask 0 and 1 give ``a`` and ``b`` bit-exactly, and
+    in float32 like the layer compositor's normal blend (``layers/blend.py``), so a
+    masked op and a masked filter layer give the same bits.
     """
     height, width, channels = a.shape
+    one = np.float32(1.0)
     for row in prange(height):
         for col in range(width):
             m = mask[row, col]
-            keep = 1.0 - m
+            keep = one - m
             for c in range(channels):
                 out[row, col, c] = keep * a[row, col, c] + m * b[row, col, c]
 
@@ -31,10 +34,11 @@ def lerp(a, b, mask, out):
 def scale_lerp(a, factor, mask, out):
     """``out = (1 - mask) * a + mask * (factor * a)``: a masked scale in one pass."""
     height, width, channels = a.shape
+    one = np.float32(1.0)
     for row in prange(height):
         for col in range(width):
             m = mask[row, col]
-            keep = 1.0 - m
+            keep = one - m
             for c in range(channels):
                 value = a[row, col, c]
                 out[row, col, c] = keep * value + m * (factor * value)
