@@ -71,22 +71,18 @@ def texture_set_rows(ts: TextureSet) -> list[tuple[str, str, str, str]]:
         hints = ", ".join(f"{k}: {v}" for k, v in ts.hints.get(slot, {}).items())
         notes = SLOTS[slot].description if slot in SLOTS else ""
         rows.append((slot, path.name, _header(path), "; ".join(n for n in (hints, notes) if n)))
-    for slot, paths in sorted(ts.alternates.items()):
-        for path in paths:
+    for path, why, slot in ts.unloaded():
+        if slot is not None:
             rows.append((f"({slot})", path.name, _header(path), f"alternate {slot}: not loaded"))
-    for path, why in ts.not_used.items():
-        rows.append(("—", path.name, _header(path), f"not loaded: {why}"))
-    for path in ts.unrecognised:
-        rows.append(("—", path.name, _header(path), "name matches no slot: not loaded"))
+        else:
+            rows.append(("—", path.name, _header(path), f"not loaded: {why}"))
     return rows
 
 
 def _files(ts: TextureSet) -> list[tuple[Path, str | None]]:
     """(file, slot it is loaded as or None) in the order of :func:`texture_set_rows`."""
     files: list[tuple[Path, str | None]] = [(p, s) for s, p in sorted(ts.maps.items())]
-    files += [(p, None) for _, paths in sorted(ts.alternates.items()) for p in paths]
-    files += [(p, None) for p in ts.not_used]
-    files += [(p, None) for p in ts.unrecognised]
+    files += [(path, None) for path, _, _ in ts.unloaded()]
     return files
 
 

@@ -80,6 +80,22 @@ class TextureSet:
     #: the user's choice of normal-map convention (None: file name, confident guess, OpenGL)
     normal_convention: str | None = None
 
+    def unloaded(self) -> list[tuple[Path, str, str | None]]:
+        """Every file beside the set that is not loaded: ``(file, why, slot)``.
+
+        ``slot`` names the map a file is an alternate of (None otherwise). In the
+        order front ends list them: alternates, files set aside with a reason, then
+        names that match no map.
+        """
+        rows: list[tuple[Path, str, str | None]] = [
+            (path, f"the other {slot} convention", slot)
+            for slot, paths in sorted(self.alternates.items())
+            for path in paths
+        ]
+        rows += [(path, why, None) for path, why in self.not_used.items()]
+        rows += [(path, "name matches no map", None) for path in self.unrecognised]
+        return rows
+
 
 class NothingRecognised(MatshopError):
     """No file in the folder names a map."""

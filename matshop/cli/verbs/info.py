@@ -6,7 +6,6 @@ import argparse
 from pathlib import Path
 
 from ...io.material_io import LoadReport, load_material
-from ...io.textureset import TextureSet
 from ...material import Material
 from ..options import add_load_options, load_options
 
@@ -86,18 +85,9 @@ def describe(material: Material, report: LoadReport) -> str:
         f"({', '.join(f'{n} {s}' for n, s in _slices(material))})"
     )
     lines.extend(report.notes)
-    lines.extend(f"not used: {name} ({why})" for name, why in not_used(ts))
+    unloaded = sorted((path.name, why) for path, why, _ in ts.unloaded())
+    lines.extend(f"not used: {name} ({why})" for name, why in unloaded)
     return "\n".join(lines)
-
-
-def not_used(ts: TextureSet) -> list[tuple[str, str]]:
-    """(file name, why) for every file beside the set that is not loaded."""
-    rows = [(p.name, "name matches no map") for p in ts.unrecognised]
-    rows += [
-        (p.name, f"the other {slot} convention") for slot, ps in ts.alternates.items() for p in ps
-    ]
-    rows += [(p.name, why) for p, why in ts.not_used.items()]
-    return sorted(rows)
 
 
 def _slices(material: Material) -> list[tuple[str, str]]:
