@@ -5,7 +5,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..material import Material
+from ..material import Material, Schema
+from ..ops import get_op
 from ..ops.blur import gaussian
 from ..render.integrator import DirectionalLight
 from ..render.render import render
@@ -55,3 +56,40 @@ def height_blur(normal: np.ndarray, sigma: float) -> np.ndarray:
 
 def wrap_blur(image: np.ndarray, sigma: float) -> np.ndarray:
     return gaussian(np.ascontiguousarray(image, dtype=np.float32), sigma, "wrap")
+
+
+def detail_on_file_values(
+    material: Material,
+    *,
+    amount: float,
+    sigma_px: float,
+    sigma_range: float,
+    scale: dict[str, float] | None = None,
+) -> dict[str, np.ndarray]:
+    """The detail (unsharp) op run on the raw file values, each channel a linear scalar.
+
+    What a physical-space editor does: ``scale`` divides a map first and multiplies
+    it back after (e.g. a Phong exponent brought to [0, 1]). Not clipped: how far
+    the result leaves the valid range is the figures' measurement.
+    """
+    names = material.schema.names
+    scale = {n: (scale or {}).get(n, 1.0) for n in names}
+    stack = np.concatenate([material.maps[n] / scale[n] for n in names], axis=2)
+    chans = [f"c{k}" for k in range(stack.shape[2])]
+    schema = Schema.from_names(chans, {c: "identity_unbounded" for c in chans})
+    out = get_op("detail").function(
+        stack,
+        schema=schema,
+        params=chans,
+        mask=None,
+        amount=amount,
+        sigma_px=sigma_px,
+        sigma_range=sigma_range,
+        border="wrap",
+    )
+    maps, start = {}, 0
+    for n in names:
+        width = material.maps[n].shape[2]
+        maps[n] = out[..., start : start + width] * scale[n]
+        start += width
+    return maps

@@ -21,10 +21,9 @@ import numpy as np
 
 from ..api import EditableMaterial
 from ..io.material_io import load_material
-from ..material import Material, Schema
-from ..ops import get_op
+from ..material import Material
 from . import drawing
-from .common import height_blur, resized, swatch, with_maps, wrap_blur
+from .common import detail_on_file_values, height_blur, resized, swatch, with_maps, wrap_blur
 from .context import SAMPLE, FigureContext, FigureResult
 from .measure import tilt_deg
 
@@ -115,25 +114,9 @@ def fig2(ctx: FigureContext) -> FigureResult:
 def _physical_detail(material: Material, amount: float, sigma_px: float, sigma_range: float):
     """The detail op on the raw file values (each channel a linear [0, 1] scalar)."""
     names = material.schema.names
-    stack = np.concatenate([material.maps[n] for n in names], axis=2)
-    chans = [f"c{k}" for k in range(stack.shape[2])]
-    schema = Schema.from_names(chans, {c: "identity_unbounded" for c in chans})
-    spec = get_op("detail")
-    out = spec.function(
-        stack,
-        schema=schema,
-        params=chans,
-        mask=None,
-        amount=amount,
-        sigma_px=sigma_px,
-        sigma_range=sigma_range,
-        border="wrap",
+    maps = detail_on_file_values(
+        material, amount=amount, sigma_px=sigma_px, sigma_range=sigma_range
     )
-    maps, start = {}, 0
-    for n in names:
-        width = material.maps[n].shape[2]
-        maps[n] = out[..., start : start + width]
-        start += width
     r = maps["roughness"]
     out_of_range = float(np.mean((r < 0.0) | (r > 1.0)))
     for n in names:

@@ -22,14 +22,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..api import EditableMaterial
-from ..material import Material, Schema
-from ..ops import get_op
+from ..material import Material
 from ..render.integrator import DirectionalLight
 from ..render.materials import from_maps
 from ..render.render import render
 from ..spaces.frame import height_to_normal
 from . import drawing
-from .common import height_blur, swatch, with_maps
+from .common import detail_on_file_values, height_blur, swatch, with_maps
 from .context import FigureContext, FigureResult, display
 from .measure import median_lobe_deg, steep_fraction, tilt_deg
 from .synthetic import phong_tiles, steep_studs
@@ -111,26 +110,13 @@ def _relief(ctx: FigureContext) -> tuple[list, list[str], dict[str, float]]:
 
 def physical_unsharp(material: Material) -> tuple[Material, float]:
     """The unsharp mask on the file values (exponent as ``n / N_SCALE``); share of ``n < 0``."""
-    names = material.schema.names
-    scale = {n: (N_SCALE if n == "phong_exponent" else 1.0) for n in names}
-    stack = np.concatenate([material.maps[n] / scale[n] for n in names], axis=2)
-    chans = [f"c{k}" for k in range(stack.shape[2])]
-    schema = Schema.from_names(chans, {c: "identity_unbounded" for c in chans})
-    out = get_op("detail").function(
-        stack,
-        schema=schema,
-        params=chans,
-        mask=None,
+    maps = detail_on_file_values(
+        material,
         amount=AMOUNT,
         sigma_px=SIGMA_PX,
         sigma_range=SIGMA_RANGE,
-        border="wrap",
+        scale={"phong_exponent": N_SCALE},
     )
-    maps, start = {}, 0
-    for n in names:
-        width = material.maps[n].shape[2]
-        maps[n] = out[..., start : start + width] * scale[n]
-        start += width
     negative = float(np.mean(maps["phong_exponent"] < 0.0))
     maps = {n: np.clip(v, 0.0, None if n == "phong_exponent" else 1.0) for n, v in maps.items()}
     return Material(material.name, material.schema, maps, material.sources), negative
