@@ -1,4 +1,9 @@
-"""The canvas' lit display: rendered on a worker, the light moved by a right-drag."""
+"""The canvas' lit display: rendered off the GUI thread, the light moved by a right-drag.
+
+Where OpenGL is available the editor draws it with the GL pass (``test_app_lit_gl.py``
+checks that one at full resolution on the sample and the 2K set); these tests run the
+reference-renderer fallback's progressive passes, and the cosine-law check with both.
+"""
 
 from __future__ import annotations
 
@@ -33,7 +38,9 @@ def _pixels(image) -> np.ndarray:
     return data.reshape(image.height(), image.bytesPerLine() // 4, 4)[:, : image.width()].copy()
 
 
-def test_lit_display_renders_off_the_gui_thread_and_follows_the_light(qtbot, tmp_path) -> None:
+def test_the_reference_fallback_renders_progressively_and_follows_the_light(
+    qtbot, tmp_path
+) -> None:
     apply_theme(QApplication.instance())
     window = make_window(tmp_path)
     qtbot.addWidget(window)
@@ -44,9 +51,11 @@ def test_lit_display_renders_off_the_gui_thread_and_follows_the_light(qtbot, tmp
     qtbot.waitUntil(window.isActiveWindow, timeout=3000)  # window shortcuts need the active window
     assert window.open_path(SAMPLE)
     lit, canvas = window.lit_preview, window.canvas
+    lit.prefer_gl = False  # the fallback where no OpenGL context can be made
     qtbot.keyClick(canvas, Qt.Key.Key_L)  # the View menu's shortcut
     assert lit.enabled and window.actions_by_name["lit"].isChecked()
     assert lit.wait() and canvas.overlay is not None
+    assert lit.gl is None and canvas.lit_label == "Lit (reference renderer)"
     first = _pixels(canvas.overlay)
     assert first.shape[:2] == (512, 512) and first[..., :3].std() > 5  # an image, not a fill
     canvas.flush()
@@ -85,8 +94,9 @@ def _write(path: Path, pixels: np.ndarray) -> None:
     out.close()
 
 
+@pytest.mark.parametrize("renderer", ["opengl", "reference"])
 def test_lit_display_equals_render_and_a_tilted_normal_brightens_towards_the_light(
-    qtbot, tmp_path
+    qtbot, tmp_path, renderer
 ) -> None:
     """A 64x64 set whose normals lean 35 degrees towards +u: lit from +u (a right-drag to the
     right edge) it is brighter than lit from -u, by the cosine law's margin; and the shown
@@ -109,7 +119,10 @@ def test_lit_display_equals_render_and_a_tilted_normal_brightens_towards_the_lig
     qtbot.waitExposed(window)
     assert window.open_path(folder)
     lit, canvas = window.lit_preview, window.canvas
+    lit.prefer_gl = renderer == "opengl"
     lit.set_enabled(True)
+    if renderer == "opengl" and lit.gl is None:
+        pytest.skip(f"no OpenGL here: {lit.gl_problem}")
     means = {}
     for side, x in (("towards", 63.5), ("away", 0.5)):
         drag(

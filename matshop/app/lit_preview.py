@@ -1,17 +1,26 @@
-"""The canvas' "Lit" display: the flattened material rendered as a flat swatch under a light.
+"""The canvas' "Lit" display: the flattened material lit as a flat swatch, one pixel per texel.
 
-Rendering takes a few hundred milliseconds, so it runs like the heavy
-filters (see :mod:`.background`): a worker renders a document *snapshot*,
-latest wins (a generation counter bumped by every change drops results that
-are out of date), one job at a time, and never during a stroke (its open
-transaction writes tiles in place). The canvas shows the last image on top
-of the texture while the mode is on; a right-button drag on the canvas
-moves the light (the cursor's direction from the image centre tilts it).
+Two renderers, one picture (:mod:`.lit_scene` holds the scene and light):
+
+- **OpenGL** where a context can be made (:mod:`.lit_gl`): the 3D viewport's
+  shader in texture space, on its own thread. A light move only changes
+  uniforms; the material is uploaded when the document changes (only its
+  dirty tiles after the first time). A coarse pass comes first when the full
+  resolution would take longer than the drag can wait, and the note says
+  "refining" until the full-resolution picture of the current light is up.
+- **the reference renderer** otherwise (no display, no driver): progressive
+  passes of 128 px, 512 px and the full resolution on a worker, each dropped
+  as soon as the light or the material moves on; the note says which
+  renderer draws and why.
+
+Both work on document *snapshots*, never during a stroke (its open
+transaction writes tiles in place); a generation counter bumped by every
+change marks pictures that are out of date. A right-button drag on the
+canvas moves the light (the cursor's direction from the image centre tilts it).
 """
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -21,29 +30,23 @@ from PySide6.QtCore import QObject, QThreadPool, QTimer, Signal
 from PySide6.QtGui import QAction, QImage
 
 from ..layers import Document
-from ..render.integrator import DirectionalLight
-from ..render.render import render
+from ..layers.events import DirtyRegion
+from ..layers.geometry import TileKey
 from ..viewport.canvas import TextureCanvas
+from . import lit_scene
+from .lit_scene import light_direction
 from .session import DocumentSession
 from .work import start_worker
 
-#: Longest side of the rendered swatch (the canvas scales it to the texture).
-MAX_SIZE = 512
-#: Side of the quick first render after a change (~1/16 of the work of MAX_SIZE): the
-#: light follows the drag at once, then the sharp render replaces it.
-QUICK_SIZE = 128
-#: How far (0..1) the light may lean away from straight above at the image's edge.
-MAX_TILT = 0.85
+__all__ = ["QUICK_SIZE", "REFERENCE_SIZES", "LitPreview", "light_direction"]
+
+#: Sides of the reference renderer's passes before the full resolution.
+REFERENCE_SIZES = (128, 512)
+QUICK_SIZE = REFERENCE_SIZES[0]
 
 
-def light_direction(u: float, v: float) -> tuple[float, float, float]:
-    """World direction towards the light for a point (u, v) in [-1, 1] of the image.
-
-    The swatch lies in the x-y plane facing +z; image down is -y.
-    """
-    x, y = MAX_TILT * max(-1.0, min(u, 1.0)), -MAX_TILT * max(-1.0, min(v, 1.0))
-    z = math.sqrt(max(1.0 - x * x - y * y, 0.05))
-    return (x, y, z)
+class _Superseded(Exception):
+    """A reference pass stopped because the light or the material moved on."""
 
 
 @dataclass
@@ -51,7 +54,7 @@ class _Job:
     generation: int
     doc: Document
     light: tuple[float, float, float]
-    size: int
+    shape: tuple[int, int]
     image: np.ndarray | None = None
     error: BaseException | None = None
     seconds: float = 0.0
@@ -62,9 +65,9 @@ class _Relay(QObject):
 
 
 class LitPreview(QObject):
-    """Keeps a lit render of the session's document for the canvas while enabled."""
+    """Keeps a lit picture of the session's document on the canvas while enabled."""
 
-    #: a render finished (seconds it took)
+    #: a picture was shown (seconds it took to render)
     rendered = Signal(float)
     message = Signal(str)
 
@@ -82,25 +85,37 @@ class LitPreview(QObject):
         self.ready, self.tool_busy = ready, tool_busy
         self.pool = pool or QThreadPool.globalInstance()
         self.enabled = False
+        #: draw with OpenGL when a context can be made (False: the reference renderer only)
+        self.prefer_gl = True
+        #: why the reference renderer draws (None: OpenGL does, or nothing was tried yet)
+        self.gl_problem: str | None = None
+        self.gl = None  # the GLLitWorker, made on first use
         self.light = light_direction(-0.45, -0.55)  # upper left, like most product shots
         self.generation = 0
         self.job: _Job | None = None
         self.last_seconds = 0.0
-        #: generation and size of the picture on the canvas (-1: none)
+        #: tiles changed since the renderer last had the material (None: all of it)
+        self._dirty: set[TileKey] | None = None
+        #: the light is the only change since the material went out (GL: no snapshot needed)
+        self._material_sent = False
+        #: generation and sharpness of the picture on the canvas (-1: none)
         self._shown_generation = -1
-        self._shown_size = 0
+        self._shown_sharp = False
+        self._watched: Document | None = None
         self._relay = _Relay()
-        self._relay.done.connect(self._finished)
-        self._timer = QTimer(self)  # coalesces bursts (a light drag, several signals)
+        self._relay.done.connect(self._reference_finished)
+        self._timer = QTimer(self)  # coalesces bursts (a stroke's dabs, several signals)
         self._timer.setSingleShot(True)
         self._timer.setInterval(30)
         self._timer.timeout.connect(self._start)
-        for signal in (session.historyChanged, session.documentReplaced, session.layersChanged):
-            signal.connect(self._changed)
+        session.documentReplaced.connect(self._document_replaced)
         canvas.lightDragged.connect(self.set_light_at)
         if action is not None:
             action.setCheckable(True)
             action.toggled.connect(self.set_enabled)
+        self._document_replaced()
+
+    # -- switching and the light --------------------------------------------
 
     def toggle(self) -> None:
         self.set_enabled(not self.enabled)
@@ -111,15 +126,54 @@ class LitPreview(QObject):
         self.enabled = on
         if self.action is not None and self.action.isChecked() != on:
             self.action.setChecked(on)
+        if on and self.gl is None and self.gl_problem is None:
+            self._start_gl()
         self.canvas.set_overlay(None, lit=on)
-        self._changed()
+        self.canvas.lit_label = self.label
+        self._material_changed(None)
+
+    @property
+    def label(self) -> str:
+        """Which renderer draws the picture, for the canvas note."""
+        if self.gl is not None:
+            return "Lit (OpenGL)"
+        return "Lit (reference renderer)" if not self.prefer_gl else "Lit (reference: no OpenGL)"
 
     def set_light_at(self, u: float, v: float) -> None:
         """Point the light from image position (u, v) in [-1, 1] (the right-drag)."""
         self.light = light_direction(u, v)
-        self._changed()
+        self.generation += 1
+        if not self.enabled:
+            return
+        self.canvas.set_refining(True)
+        if self.gl is not None and self._material_sent:
+            self.gl.request(self.generation, self.light)  # uniforms only: at once
+        else:
+            self._timer.start()
 
-    def _changed(self, *_args) -> None:
+    def close(self) -> None:
+        """Stop the OpenGL thread (the window is closing)."""
+        if self.gl is not None:
+            self.gl.stop()
+            self.gl = None
+
+    # -- the material ---------------------------------------------------------
+
+    def _document_replaced(self) -> None:
+        if self._watched is not None:
+            self._watched.events.dirty.disconnect(self._material_changed)
+        self._watched = self.session.doc
+        if self._watched is not None:
+            self._watched.events.dirty.connect(self._material_changed)
+        self._material_changed(None)
+
+    def _material_changed(self, region: DirtyRegion | None) -> None:
+        """The flattened material changed in ``region`` (None: anywhere, or a new document)."""
+        if region is None or self._dirty is None:
+            self._dirty = None
+        else:
+            self._dirty |= region.keys
+        self._material_sent = False
         self.generation += 1
         if self.enabled:
             self.canvas.set_refining(True)
@@ -127,34 +181,85 @@ class LitPreview(QObject):
 
     def _start(self) -> None:
         doc = self.session.doc
-        if not self.enabled or doc is None or self.job is not None:
-            return  # a running job reschedules when it ends
+        if not self.enabled or doc is None:
+            return
         if self.tool_busy() or not self.ready():
             self._timer.start(150)  # a stroke or a heavy flatten: try again shortly
             return
-        full = self._full()
-        # a change since the last picture: a quick render first, then the full one
-        quick = self._shown_generation != self.generation and full > QUICK_SIZE
-        size = QUICK_SIZE if quick else full
-        job = _Job(self.generation, doc.snapshot(), self.light, size)
+        if self.gl is not None:
+            if not self._material_sent:
+                self.gl.set_document(doc.snapshot(), self._dirty)
+                self._dirty, self._material_sent = set(), True
+            self.gl.request(self.generation, self.light)
+        else:
+            self._start_reference(doc)
+
+    # -- OpenGL ---------------------------------------------------------------
+
+    def _start_gl(self) -> None:
+        if not self.prefer_gl:
+            self.gl_problem = "OpenGL switched off"
+            return
+        from .lit_gl import GLLitWorker, GLUnavailableHere
+
+        try:
+            self.gl = GLLitWorker()
+        except GLUnavailableHere as exc:
+            self.gl_problem = f"no OpenGL: {exc}"
+            self.message.emit(f"Lit preview: {self.gl_problem}; the reference renderer draws it")
+            return
+        self.gl.frame.connect(self._gl_frame)
+        self.gl.failed.connect(self._gl_failed)
+        self.gl.start()
+        self._dirty, self._material_sent = None, False
+
+    def _gl_frame(self, frame) -> None:
+        self._show(frame.image, frame.generation, frame.level == 0, frame.seconds)
+
+    def _gl_failed(self, problem: str) -> None:
+        """The GL thread died: the reference renderer takes over (said aloud)."""
+        if self.gl is not None:
+            self.gl.stop()
+        self.gl = None
+        self.gl_problem = f"OpenGL failed: {problem}"
+        self.message.emit(f"Lit preview: {self.gl_problem}; the reference renderer draws it")
+        self.canvas.lit_label = self.label
+        self._material_changed(None)
+
+    # -- the reference renderer ------------------------------------------------
+
+    def _reference_shape(self) -> tuple[int, int]:
+        """The next reference pass: the first of :data:`REFERENCE_SIZES` finer than the
+        picture shown (a change starts again from the first), else the full resolution."""
+        doc = self.session.doc
+        assert doc is not None
+        full = max(doc.width, doc.height)
+        shown = self.canvas.overlay
+        current = self._shown_generation == self.generation and shown is not None
+        have = max(shown.width(), shown.height()) if current else 0
+        for side in REFERENCE_SIZES:
+            if have < side < full:
+                scale = side / full
+                return max(1, round(doc.height * scale)), max(1, round(doc.width * scale))
+        return doc.height, doc.width
+
+    def _start_reference(self, doc: Document) -> None:
+        if self.job is not None:
+            return  # the running job reschedules when it ends
+        job = _Job(self.generation, doc.snapshot(), self.light, self._reference_shape())
         self.job = job
+
+        def progress(_done: int, _total: int) -> None:
+            if job.generation != self.generation:
+                raise _Superseded
 
         def run() -> None:  # worker thread: the snapshot only
             began = time.perf_counter()
             try:
                 material = job.doc.flatten_physical()
-                image = render(
-                    material,
-                    scene="swatch",
-                    size=job.size,
-                    lights=(DirectionalLight(job.light, (3.0, 3.0, 3.0)),),
-                    environment_scale=0.25,
-                    samples=4,
-                    background=(0.12, 0.12, 0.13),
-                )
-                rgba = np.clip(image.display() * 255.0 + 0.5, 0, 255).astype(np.uint8)
-                rgba[..., 3] = 255
-                job.image = np.ascontiguousarray(rgba)
+                job.image = lit_scene.reference_image(material, job.light, job.shape, progress)
+            except _Superseded:
+                pass
             except BaseException as exc:  # reported on the GUI thread
                 job.error = exc
             job.seconds = time.perf_counter() - began
@@ -165,39 +270,41 @@ class LitPreview(QObject):
 
         start_worker(self.pool, run)
 
-    def _finished(self, job: _Job) -> None:
+    def _reference_finished(self, job: _Job) -> None:
         self.job = None
+        doc = self.session.doc
         if job.error is not None:
             self.message.emit(f"Lit preview: {job.error}")
-        elif self.enabled and job.image is not None:
-            height, width = job.image.shape[:2]
-            image = QImage(
-                job.image.data, width, height, width * 4, QImage.Format.Format_RGBA8888
-            ).copy()  # owns its pixels: the array goes away
-            current = job.generation == self.generation
-            self._shown_generation = job.generation
-            self._shown_size = job.size
-            sharp = job.size >= self._full()
-            self.canvas.set_overlay(image, lit=True, refining=not (current and sharp))
-            self.last_seconds = job.seconds
-            self.rendered.emit(job.seconds)
-        if self.enabled and (job.generation != self.generation or self._shown_size < self._full()):
-            self._timer.start()  # moved on meanwhile, or the sharp render is still to come
+            return
+        if job.image is not None and doc is not None:
+            sharp = job.shape == (doc.height, doc.width)
+            self._show(job.image, job.generation, sharp, job.seconds)
+        if self.enabled and not self.up_to_date():
+            self._timer.start()  # moved on meanwhile, or a finer pass is still to come
 
-    def _full(self) -> int:
-        """Side of the sharp render of the current document (0: none)."""
-        doc = self.session.doc
-        return 0 if doc is None else min(MAX_SIZE, max(doc.width, doc.height))
+    # -- showing ----------------------------------------------------------------
+
+    def _show(self, pixels: np.ndarray, generation: int, sharp: bool, seconds: float) -> None:
+        if not self.enabled:
+            return
+        height, width = pixels.shape[:2]
+        image = QImage(pixels.data, width, height, width * 4, QImage.Format.Format_RGBA8888).copy()
+        self._shown_generation, self._shown_sharp = generation, sharp
+        self.canvas.set_overlay(image, lit=True, refining=not self.up_to_date())
+        self.last_seconds = seconds
+        self.rendered.emit(seconds)
+
+    def up_to_date(self) -> bool:
+        """The picture shown is the full-resolution one of the current light and material."""
+        return self._shown_generation == self.generation and self._shown_sharp
 
     def wait(self, timeout_s: float = 30.0) -> bool:
-        """Process events until an up-to-date image is shown; for tests and scripts."""
-        from PySide6.QtWidgets import QApplication
+        """Run the event loop until the full-resolution picture of the current state is up."""
+        from .testing import spin
 
         end = time.perf_counter() + timeout_s
         while time.perf_counter() < end:
-            QApplication.processEvents()
-            idle = self.job is None and not self._timer.isActive()
-            if idle and self.canvas.overlay is not None:
+            spin(5)
+            if self.canvas.overlay is not None and self.up_to_date():
                 return True
-            time.sleep(0.005)
         return False

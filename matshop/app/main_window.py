@@ -452,4 +452,5 @@ class MainWindow(QMainWindow):
             event.ignore()
             return
         self.app_settings.save_geometry(self.saveGeometry(), self.saveState())
+        self.lit_preview.close()
         event.accept()

@@ -70,6 +70,9 @@ class TextureCanvas(QWidget):
         self.lit = False
         self.overlay: QImage | None = None
         self.refining = False
+        #: the note's name for the lit picture (which renderer draws it)
+        self.lit_label = "Lit"
+        self._overlay_levels: dict[int, QImage] = {}  # reductions of the overlay for zoom-out
         self._lighting = False
         #: while set, the flatten is being computed elsewhere: keep the last picture
         self._held: str | None = None
@@ -124,6 +127,7 @@ class TextureCanvas(QWidget):
         """
         self.lit = lit
         self.overlay = image if lit else None
+        self._overlay_levels: dict[int, QImage] = {}
         self.refining = refining
         self.update()
 
@@ -251,9 +255,7 @@ class TextureCanvas(QWidget):
             target = QRectF(x0, y0, visible.width * view.zoom, visible.height * view.zoom)
             self._draw_texture(painter, target, visible)
         if self.lit and self.overlay is not None and visible is not None and not visible.empty:
-            # the render covers the whole texture: scale it onto the texture's outline
-            painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, True)
-            painter.drawImage(outline, self.overlay)
+            self._draw_overlay(painter, target, visible)
         self._paint_outlines(painter)
         self._paint_cursor(painter)
         if self._held is not None:
@@ -262,7 +264,8 @@ class TextureCanvas(QWidget):
             if self.overlay is None:
                 self._paint_note(painter, "Rendering…")
             else:
-                self._paint_note(painter, "Lit — refining…" if self.refining else "Lit")
+                label = self.lit_label
+                self._paint_note(painter, f"{label} — refining…" if self.refining else label)
 
     def _draw_texture(self, painter: QPainter, target: QRectF, visible: Rect) -> None:
         """Draw texels ``visible`` onto ``target``: crisp squares when magnified, filtered when not.
@@ -283,6 +286,29 @@ class TextureCanvas(QWidget):
         source = QRectF(
             visible.x0 * scale, visible.y0 * scale, visible.width * scale, visible.height * scale
         )
+        painter.drawImage(target, image, source)
+
+    def _draw_overlay(self, painter: QPainter, target: QRectF, visible: Rect) -> None:
+        """Draw the part of the lit picture over texels ``visible`` (it covers the texture,
+        at the texture's resolution or a coarser one): a 2K picture is not scaled whole."""
+        assert self.overlay is not None and self.doc is not None
+        image = self.overlay
+        level = level_for_zoom(self.view.zoom)
+        if level > 0 and image.width() >= self.doc.width >> (level - 1):
+            # zoomed out: an area-averaged reduction, made once per picture and level
+            if level not in self._overlay_levels:
+                self._overlay_levels[level] = image.scaled(
+                    max(1, image.width() >> level),
+                    max(1, image.height() >> level),
+                    Qt.AspectRatioMode.IgnoreAspectRatio,
+                    Qt.TransformationMode.SmoothTransformation,
+                )
+            image = self._overlay_levels[level]
+        sx = image.width() / self.doc.width
+        sy = image.height() / self.doc.height
+        source = QRectF(visible.x0 * sx, visible.y0 * sy, visible.width * sx, visible.height * sy)
+        smooth = self.view.zoom < 1.0 or sx < 1.0  # magnified 1:1 texels stay crisp squares
+        painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, smooth)
         painter.drawImage(target, image, source)
 
     def _mip_image(self, level: int) -> QImage:

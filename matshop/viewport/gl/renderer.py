@@ -98,15 +98,19 @@ class MaterialRenderer:
 
     # -- drawing -----------------------------------------------------------
 
-    def draw(self, width: int, height: int) -> None:
-        """Draw into the bound framebuffer (its viewport already ``width x height``)."""
+    def draw(self, width: int, height: int, *, background: bool = True) -> None:
+        """Draw into the bound framebuffer (its viewport already ``width x height``).
+
+        ``background=False`` skips the backdrop (a view the surface covers whole).
+        """
         self.sync()
         light = self.lighting
         GL.glDisable(GL.GL_CULL_FACE)
         GL.glDisable(GL.GL_DEPTH_TEST)
         GL.glClearColor(0.0, 0.0, 0.0, 1.0)
         GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
-        self._draw_background(width, height)
+        if background:
+            self._draw_background(width, height)
         if self.mesh is None or self.textures is None:
             return
         GL.glEnable(GL.GL_DEPTH_TEST)
