@@ -133,8 +133,8 @@ class FileController(QObject):
             detected = reviewed  # as the user corrected it
 
         def read(work: Work) -> Document:
-            material, _report = load_material(detected)
-            work.checkpoint()
+            # per-file progress (and Cancel between files), then the conversion's own
+            material, _report = load_material(detected, progress=work.progress)
             return Document.from_material(material.to_edit(progress=work.progress))
 
         return self._off_ui(f"Opening {path.name}…", read, cancellable=True), None, {}, False
@@ -299,18 +299,28 @@ class FileController(QObject):
         usd = chosen_extras.get("usd", False)
         if usd:
             plan = plan + usd_plan
-        try:
-            summary = self._off_ui(
-                f"Exporting {preset} to {folder}…",
-                lambda _: export_material(
-                    material,
-                    chosen,
-                    folder,
-                    name=export_name(material),
-                    force=any(planned.exists for planned in plan),  # the user saw them listed
-                    usdz=usd,
-                ),
+        finished = []
+
+        def write(work: Work):
+            summary = export_material(
+                material,
+                chosen,
+                folder,
+                name=export_name(material),
+                force=any(planned.exists for planned in plan),  # the user saw them listed
+                usdz=usd,
+                progress=work.progress,  # Cancel between files: all-or-nothing
             )
+            finished.append(summary)  # in place: a Cancel pressed from here on came too late
+            return summary
+
+        try:
+            summary = self._off_ui(f"Exporting {preset} to {folder}…", write, cancellable=True)
+        except Cancelled:
+            if not finished:
+                self.message.emit(f"Export cancelled: nothing written to {folder}")
+                return
+            summary = finished[0]
         except MatshopError as exc:
             self.prompts.error("Cannot export", str(exc))
             return

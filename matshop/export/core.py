@@ -28,7 +28,7 @@ from ..io.fileset import PendingFile, check_targets, write_all
 from ..io.images import probe_image, write_image
 from ..io.normal_convention import CONVENTION_ATTRIBUTE
 from ..io.safe_names import safe_stem
-from ..material import Material
+from ..material import Material, ProgressCallback
 from .obj import Mesh, read_obj, uv_sphere
 from .pack import is_written, pack_output, plan_missing
 from .presets import OutputSpec, Preset, load_preset
@@ -123,6 +123,7 @@ def export_material(
     usdz: bool = False,
     mtlx_shader: str = "open_pbr_surface",
     seed: int = 0,
+    progress: ProgressCallback | None = None,
 ) -> ExportSummary:
     """Write ``material`` as ``preset`` says into ``out_dir``.
 
@@ -150,6 +151,9 @@ def export_material(
     usdz : also write ``<name>.usdz``, the ``.usda`` and its textures packaged
         (implies ``usd``).
     seed : dithering noise seed.
+    progress : called with (files written, files) before the first file and after each;
+        an exception it raises (a cancel) stops the export between files and, like any
+        failure, leaves the output folder as it was (no new folder, no partial files).
 
     Raises
     ------
@@ -218,7 +222,7 @@ def export_material(
         )
         if usdz:
             written.append(WrittenFile(out / f"{name}.usdz", "usd", "USDZ package"))
-    write_all(out, pending, force=force)
+    write_all(out, pending, force=force, progress=progress)
     summary = ExportSummary(preset.name, name, out, material.size, warnings=warnings)
     summary.files = [_with_detail(w) for w in written]
     return summary

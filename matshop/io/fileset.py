@@ -72,7 +72,9 @@ def write_all(
 ) -> list[Path]:
     """Write ``files`` into ``out_dir`` all-or-nothing; return the final paths.
 
-    ``progress(done, total)`` is called after each staged file.
+    ``progress(done, total)`` is called before the first file and after each staged
+    one; an exception it raises (a cancel) is a failure like any other: nothing is moved
+    into ``out_dir`` and a folder this call created is removed.
     """
     out = Path(out_dir)
     names = [f.name for f in files]
@@ -84,6 +86,8 @@ def write_all(
     except OSError as exc:
         raise MatshopError(f"cannot write here: {exc.strerror or exc}", out) from None
     try:
+        if progress is not None:
+            progress(0, len(files))
         for done, pending in enumerate(files, 1):
             try:
                 write_one(pending, staging / pending.name)

@@ -96,12 +96,19 @@ def _as_rgb(array: np.ndarray, path: Path) -> np.ndarray:
     raise MatshopError(f"expected a color image, got {channels} channels", path)
 
 
-def _read_all(ts: TextureSet, max_pixels: int | None) -> tuple[dict, dict]:
+def _read_all(
+    ts: TextureSet, max_pixels: int | None, progress: ProgressCallback | None = None
+) -> tuple[dict, dict]:
+    """Every map file of ``ts``; ``progress(files read, files)`` before the first and after
+    each (a callback that raises stops the reading between files)."""
     arrays: dict[str, np.ndarray] = {}
     infos: dict[str, ImageInfo] = {}
     size: tuple[int, int] | None = None
     size_from: Path | None = None
-    for slot, path in ts.maps.items():
+    total = len(ts.maps)
+    if progress is not None:
+        progress(0, total)
+    for done, (slot, path) in enumerate(ts.maps.items(), 1):
         kwargs = {} if max_pixels is None else {"max_pixels": max_pixels}
         array, info = read_image(path, **kwargs)
         if size is None:
@@ -114,6 +121,8 @@ def _read_all(ts: TextureSet, max_pixels: int | None) -> tuple[dict, dict]:
                 path,
             )
         arrays[slot], infos[slot] = array, info
+        if progress is not None:
+            progress(done, total)
     return arrays, infos
 
 
@@ -125,6 +134,7 @@ def load_material(
     max_pixels: int | None = None,
     material: str | None = None,
     maps: dict[str, str | os.PathLike | None] | None = None,
+    progress: ProgressCallback | None = None,
 ) -> tuple[Material, LoadReport]:
     """Load the texture set at ``path`` (a folder or one of its files).
 
@@ -139,6 +149,8 @@ def load_material(
     max_pixels : refuse images larger than this many texels.
     material : which material of a folder holding several (as detection lists them).
     maps : explicit files per slot, added or overriding detection (None: leave empty).
+    progress : called with (map files read, map files) before the first file and after
+        each; an exception it raises (a cancel) stops the loading between files.
 
     Raises
     ------
@@ -151,7 +163,7 @@ def load_material(
     else:
         ts = resolve_texture_set(path, material=material, maps=maps)
     check_texture_set(ts)
-    arrays, infos = _read_all(ts, max_pixels)
+    arrays, infos = _read_all(ts, max_pixels, progress)
     report = LoadReport(ts, infos, notes=list(ts.notes))
     maps: dict[str, np.ndarray] = {}
     sources: dict[str, dict] = {}
