@@ -147,7 +147,7 @@ def test_a_stroke_reuploads_only_its_tiles_and_the_picture_follows(window):
     lit = _lit(window)
     doc = window.session.doc
     full_bytes = lit.gl.uploads[-1][1]
-    assert lit.gl.uploads == [("all", full_bytes)]
+    assert list(lit.gl.uploads) == [("all", full_bytes)]
     before = _pixels(window.canvas.overlay)
     window.swatch_model.set_value("base_color", (0.9, 0.1, 0.1))
     drag(window.canvas, [window.canvas.to_widget(x, 200) for x in (150, 200, 250)])

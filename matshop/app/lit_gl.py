@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 import threading
 import time
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
@@ -95,10 +96,8 @@ class GLLitWorker(QThread):
         self._light: tuple[int, tuple[float, float, float]] | None = None
         self._stopping = False
         self.s_per_pixel = INITIAL_S_PER_PIXEL
-        #: what the passes cost (for the benchmark): (level, pixels, seconds)
-        self.timings: list[tuple[int, int, float]] = []
-        #: material uploads: ("all" or "tiles", bytes sent)
-        self.uploads: list[tuple[str, int]] = []
+        #: the latest material uploads: ("all" or "tiles", bytes sent)
+        self.uploads: deque[tuple[str, int]] = deque(maxlen=32)
         _LIVE.add(self)
         app = QCoreApplication.instance()
         if app is not None and len(_LIVE) == 1:
@@ -208,7 +207,6 @@ class GLLitWorker(QThread):
         began = time.perf_counter()
         renderer.draw(level, rows)
         seconds = time.perf_counter() - began
-        self.timings.append((level, pixels, seconds))
         # a running mean that forgets in a few passes (the load changes)
         self.s_per_pixel = 0.7 * self.s_per_pixel + 0.3 * seconds / max(pixels, 1)
         return seconds

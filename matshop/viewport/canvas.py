@@ -127,7 +127,7 @@ class TextureCanvas(QWidget):
         """
         self.lit = lit
         self.overlay = image if lit else None
-        self._overlay_levels: dict[int, QImage] = {}
+        self._overlay_levels = {}
         self.refining = refining
         self.update()
 
@@ -294,12 +294,13 @@ class TextureCanvas(QWidget):
         assert self.overlay is not None and self.doc is not None
         image = self.overlay
         level = level_for_zoom(self.view.zoom)
-        if level > 0 and image.width() >= self.doc.width >> (level - 1):
-            # zoomed out: an area-averaged reduction, made once per picture and level
+        width, height = max(1, self.doc.width >> level), max(1, self.doc.height >> level)
+        if image.width() > width:
+            # zoomed out: the texture's mip size, area-averaged once per picture and level
             if level not in self._overlay_levels:
                 self._overlay_levels[level] = image.scaled(
-                    max(1, image.width() >> level),
-                    max(1, image.height() >> level),
+                    width,
+                    height,
                     Qt.AspectRatioMode.IgnoreAspectRatio,
                     Qt.TransformationMode.SmoothTransformation,
                 )
