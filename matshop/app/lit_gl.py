@@ -21,6 +21,7 @@ pass, so the quick level and band height follow the machine's load.
 
 from __future__ import annotations
 
+import atexit
 import math
 import threading
 import time
@@ -75,6 +76,9 @@ _LIVE: set[GLLitWorker] = set()
 def _stop_all() -> None:
     for worker in list(_LIVE):
         worker.stop()
+
+
+atexit.register(_stop_all)  # also where Qt never quits (scripts, test sessions)
 
 
 class GLLitWorker(QThread):
