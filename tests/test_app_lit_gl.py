@@ -28,6 +28,7 @@ pytest.importorskip("OpenGL")
 
 from PySide6.QtCore import Qt  # noqa: E402
 
+from matshop.app.lit_gl import COARSE_BUDGETS_S  # noqa: E402
 from matshop.app.testing import Heartbeat, drag, shown_window  # noqa: E402
 from matshop.render import scenes  # noqa: E402
 from matshop.render.integrator import DirectionalLight  # noqa: E402
@@ -189,7 +190,9 @@ def test_dragging_the_light_over_a_2k_set_never_stalls_and_says_it_is_refining(w
     )
     print(report)
     assert len(refining_at_once) >= 59 and all(refining_at_once)
-    assert any(w < 2048 for w, _ in frames)  # coarse pictures followed the drag
+    # coarse pictures followed the drag, unless the full pass itself is that fast (a GPU)
+    fast = lit.gl.s_per_pixel * 2048 * 2048 <= COARSE_BUDGETS_S[0]
+    assert fast or any(w < 2048 for w, _ in frames)
     assert frames[-1][0] == 2048 and not canvas.refining  # then the full one, said so
     assert cpu < STALL_LIMIT_S, report
     if load < (os.cpu_count() or 1):
