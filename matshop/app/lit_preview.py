@@ -26,7 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from PySide6.QtCore import QObject, QThreadPool, QTimer, Signal
+from PySide6.QtCore import QEventLoop, QObject, QThreadPool, QTimer, Signal
 from PySide6.QtGui import QAction, QImage
 
 from ..layers import Document
@@ -300,11 +300,11 @@ class LitPreview(QObject):
 
     def wait(self, timeout_s: float = 30.0) -> bool:
         """Run the event loop until the full-resolution picture of the current state is up."""
-        from .testing import spin
-
         end = time.perf_counter() + timeout_s
         while time.perf_counter() < end:
-            spin(5)
+            loop = QEventLoop()  # not processEvents(): see matshop.app.testing.spin
+            QTimer.singleShot(5, loop.quit)
+            loop.exec()
             if self.canvas.overlay is not None and self.up_to_date():
                 return True
         return False
