@@ -20,7 +20,7 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from ..material import Schema
-from ._kernels import lut_channels, lut_vector
+from ._kernels import line_tables, lut_apply
 from .selection import Selection
 from .spec import OpSpec, ParamSpec
 from .tone_range import CLIP_PERCENT, REMAPS, Remap, ToneRange, tail_slope, tone_ranges
@@ -79,21 +79,33 @@ def apply_lut(
     block = selection.take(edit)
     ranges = tone_ranges(block, selection.groups, remap=remap, clip_percent=clip_percent)
     tail = tail_slope(remap)
-    result = np.empty(block.shape, dtype=np.float32)
     lut = np.ascontiguousarray(lut, dtype=np.float64)
-    # every per-channel group in one pass; each vector group in its own
-    pairs = list(zip(selection.groups, ranges, strict=True))
-    scalar = [(g, r) for g, r in pairs if not r.vector]
-    if scalar:
-        channels = np.concatenate([g.channels for g, _ in scalar])
-        lo = np.concatenate([r.lo for _, r in scalar])
-        span = np.concatenate([r.span for _, r in scalar])
-        lut_channels(block, channels, lo, span, lut, tail, result)
-    for group, tone in pairs:
+    # every group in one pass; a vector's channels keep an unused identity line
+    width = block.shape[2]
+    ab = np.zeros((width, lut.size + 1, 2), dtype=np.float32)
+    ab[..., 1] = 1.0
+    to_pos, shift = np.zeros(width), np.zeros(width)
+    vectors = []
+    for group, tone in zip(selection.groups, ranges, strict=True):
         if tone.vector:
-            quadrature = group.quadrature.astype(np.float64)
-            lo, span = float(tone.lo[0]), float(tone.span[0])
-            lut_vector(block, group.channels, quadrature, lut, lo, span, tail, result)
+            vectors.append((group, line_tables(lut, tone.lo[0], tone.span[0], tail)))
+            continue
+        for c, lo, span in zip(group.channels, tone.lo, tone.span, strict=True):
+            ab[c], to_pos[c], shift[c] = line_tables(lut, lo, span, tail)
+    groups = [g for g, _ in vectors]
+    result = np.empty(block.shape, dtype=np.float32)
+    lut_apply(
+        block,
+        ab,
+        to_pos,
+        shift,
+        np.concatenate([g.channels for g in groups] or [[]]).astype(np.int64),
+        np.cumsum([0] + [len(g.channels) for g in groups]).astype(np.int64),
+        np.concatenate([g.quadrature for g in groups] or [[]]).astype(np.float64),
+        np.stack([t[0] for _, t in vectors] or [ab[0]]),
+        np.array([t[1:] for _, t in vectors] or [(0.0, 0.0)], dtype=np.float64),
+        result,
+    )
     return selection.put(edit, result)
 
 
