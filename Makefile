@@ -38,6 +38,7 @@ test: $(PYTHON) validator
 		$(PYTHON) -m pytest; \
 	fi
 
+# every benchmark script, then one table of goal / ratio / verdict (benchmarks/table.py)
 bench: $(PYTHON)
 	$(PIP) -e ".[gui]"
-	$(PYTHON) benchmarks/spaces.py
+	$(PYTHON) benchmarks/table.py

@@ -1,0 +1,59 @@
+"""Curves and levels as ratios to a memory copy of the same bytes, in one run.
+
+    python benchmarks/curves.py [--repeat N] [--size 2048]
+
+Data: the real 10-channel set of ``_common.real_set`` (the chessboard's maps
+plus anisotropic exponents derived from them) in edit space, with its schema,
+so the normal frame goes through the curve as one vector (frames included),
+and its base colour alone (3 channels). Default ``remap="data"``: each call
+also reads the channels' robust range. Baseline: ``np.copyto`` of the same
+bytes into an existing array (the bandwidth limit; the ops also allocate
+their result). Goal (issue 16): <= 3x.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+from _common import goal, paired_ratios, real_set
+
+from matshop.material import Schema
+from matshop.ops.curves import curves, levels
+
+POINTS = [(0.0, 0.0), (0.3, 0.5), (1.0, 1.0)]
+LIMIT = 3.0
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--size", type=int, default=2048)
+    args = parser.parse_args()
+    material, what = real_set(args.size)
+    edit = material.to_edit().data
+    print(f"data: {what}")
+    cases = [
+        (10, edit, material.schema),
+        (3, np.ascontiguousarray(edit[..., :3]), Schema(material.schema.parameters[:1])),
+    ]
+    for channels, data, schema in cases:
+        dst = np.empty_like(data)
+
+        def copy(d=data, o=dst) -> None:
+            np.copyto(o, d)
+
+        def run_curves(d=data, s=schema) -> None:
+            curves(d, points=POINTS, schema=s)
+
+        def run_levels(d=data, s=schema) -> None:
+            levels(d, in_black=0.1, in_white=0.9, gamma=1.4, schema=s)
+
+        what = "10 ch incl. a frame" if channels == 10 else "3 ch base colour"
+        for label, fn in (("curves", run_curves), ("levels", run_levels)):
+            ratios = paired_ratios(fn, copy, args.repeat)
+            goal(f"{label}, {what} / copy", ratios, LIMIT)
+
+
+if __name__ == "__main__":
+    main()
