@@ -1,59 +1,121 @@
 """Bilateral filter speed as ratios to OpenCV's, measured in one run.
 
-    python benchmarks/bilateral.py [--repeat N] [--size 2048]
+    python benchmarks/bilateral.py [--repeat N] [--size 2048] [--guide-table]
 
 Baseline: ``cv2.bilateralFilter`` on 3 float32 channels (base color) with a
-25 x 25 window at sigma_space 8, what a user has today. Each case runs
-interleaved with its baseline and the best of ``--repeat`` runs is kept, so
-the ratios survive a noisy, shared machine better than the absolute times.
+``2 round(1.5 sigma) + 1`` window (25 x 25 at sigma_space 8), what a user
+has today. Each case runs interleaved with its baseline; goal rows give the
+median of the per-pair ratios.
 
-Data: the edit channels of a real PBR set (the shared chessboard: base color,
-metallic, roughness, normal frame), widened to 10 with two copies of
-metallic/roughness as in ``benchmarks/ops.py`` (the copies and the constant
-third normal channel add no range dimension: the guide has 7); a synthetic
-set of 10 independent channels (flat materials in cells, a gradient, noise:
-a 12-dimensional lattice); and 128 quantile samples of per-texel lobes at
-1K, guided by 6 principal components.
+Data: the real 10-channel set of ``_common.real_set`` (the chessboard's
+base colour, metallic, roughness, normal frame, and anisotropic exponents
+derived from them: 8 guide axes vary), filtered with the op's default guide
+(``guide="auto"``: principal axes explained by variance, see
+``bilateral_ops.MAX_RESIDUAL``) and with the full guide; a synthetic set of
+10 independent channels (a 12-dimensional lattice); and 128 quantile samples
+of per-texel lobes at 1K, guided by 6 principal components.
+
+``--guide-table``: for 3..8 kept guide axes and the full guide, the time
+ratio to cv2 at the same sigma and the worst PSNR against the exact filter
+on three 64 x 64 crops (the guide's axes taken from the whole image), with
+the variance the dropped axes carry: how ``MAX_RESIDUAL`` was chosen.
+Goal (issue 16): < 1x cv2 at sigma 4 and 8, >= 40 dB.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import statistics
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import cv2
 import numpy as np
+from _common import goal, paired_ratios, real_set
 from scipy.special import ndtri
 
-from matshop.ops.bilateral import bilateral_filter
+from matshop.ops.bilateral import bilateral_filter, prepare_guide, run_lattice
+from matshop.ops.bilateral_ops import MAX_RESIDUAL
+from matshop.ops.selection import Selection
 
-CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
 SIGMA_RANGE = 0.1
 SIGMAS = (8.0, 4.0, 2.0)
+CROPS = ((0, 0), (700, 1300), (1024, 512))
 
 
-def chessboard(size: int) -> tuple[np.ndarray, np.ndarray, str]:
-    """(size, size, 10) edit values and their range weights (synthetic if absent)."""
-    if CHESSBOARD.is_dir():
-        from matshop.io.material_io import load_material
-        from matshop.ops.selection import Selection
+def real_edit(size: int) -> tuple[np.ndarray, np.ndarray, str]:
+    """(size, size, 10) edit values of the real set and their range weights."""
+    material, what = real_set(size)
+    edit = np.ascontiguousarray(material.to_edit().data)
+    selection = Selection(edit, schema=material.schema, params=None, mask=None, op="bilateral")
+    return edit, selection.distance_weights(), what
 
-        material, _ = load_material(CHESSBOARD)
-        edit = material.to_edit().data
-        weights = Selection(
-            edit, schema=material.schema, params=None, mask=None, op="bilateral"
-        ).distance_weights()
-        what = f"chessboard edit channels ({', '.join(material.schema.names)})"
-    else:
-        edit = cells(2048, 8, seed=3)
-        weights = np.ones(8, dtype=np.float32)
-        what = "synthetic (chessboard absent)"
-    edit = np.concatenate([edit, edit[..., 3:5]], axis=2)[:size, :size]
-    weights = np.concatenate([weights, weights[3:5]])
-    return np.ascontiguousarray(edit), weights, what
+
+def exact(image: np.ndarray, sigma_s: float, weights: np.ndarray) -> np.ndarray:
+    """The exact filter, window cut at 3 sigma, wrapped (as tests/test_bilateral.py)."""
+    img = image.astype(np.float64)
+    guide = img * weights / SIGMA_RANGE
+    radius = math.ceil(3 * sigma_s)
+    pads = ((radius, radius), (radius, radius), (0, 0))
+    pimg, pguide = np.pad(img, pads, mode="wrap"), np.pad(guide, pads, mode="wrap")
+    num, den = np.zeros_like(img), np.zeros(img.shape[:2] + (1,))
+    height, width = img.shape[:2]
+    for dy in range(-radius, radius + 1):
+        for dx in range(-radius, radius + 1):
+            win = (
+                slice(radius + dy, radius + dy + height),
+                slice(radius + dx, radius + dx + width),
+            )
+            dist2 = np.sum((pguide[win] - guide) ** 2, axis=-1, keepdims=True)
+            w = math.exp(-(dy * dy + dx * dx) / (2 * sigma_s**2)) * np.exp(-dist2 / 2)
+            num += w * pimg[win]
+            den += w
+    return num / den
+
+
+def psnr(result: np.ndarray, reference: np.ndarray) -> float:
+    peak = float(reference.max() - reference.min())
+    return 10 * math.log10(peak**2 / float(np.mean((result - reference) ** 2)))
+
+
+def guide_table(edit: np.ndarray, weights: np.ndarray, repeat: int) -> None:
+    """Cost against accuracy per number of kept guide axes (the data behind MAX_RESIDUAL)."""
+    used = np.flatnonzero(weights > 0)
+    sample = edit.reshape(-1, edit.shape[2])[::16, used].astype(np.float64)
+    sample *= weights[used] / SIGMA_RANGE
+    variance = np.sort(np.linalg.eigvalsh(np.cov(sample.T, bias=True)))[::-1].clip(0)
+    color = np.ascontiguousarray(edit[..., :3])
+    print("guide axes variance (sigma_range^2):", " ".join(f"{v:.4f}" for v in variance))
+    print(
+        f"{'sigma':>5s} {'axes':>4s} {'dropped var':>11s} {'ratio':>6s}"
+        f" {'spread':>11s} {'PSNR':>7s}"
+    )
+    for sigma in (4.0, 8.0):
+        refs = [exact(edit[r : r + 64, c : c + 64], sigma, weights) for r, c in CROPS]
+        for dims in (None, 8, 7, 6, 5, 4, 3):
+            guide = prepare_guide(edit, weights.astype(np.float64), SIGMA_RANGE, dims)
+            worst = min(
+                psnr(
+                    run_lattice(
+                        np.ascontiguousarray(edit[r : r + 64, c : c + 64]), guide, sigma, "wrap"
+                    ),
+                    ref,
+                )
+                for (r, c), ref in zip(CROPS, refs, strict=True)
+            )
+            ratios = paired_ratios(
+                lambda g=guide, s=sigma: run_lattice(edit, g, s, "wrap"),
+                cv2_bilateral(color, sigma),
+                repeat,
+            )
+            label = "full" if dims is None else str(guide.dims)
+            print(
+                f"{sigma:5g} {label:>4s} {variance[guide.dims :].sum():11.4f} "
+                f"{statistics.median(ratios):6.2f} {min(ratios):5.2f}-{max(ratios):5.2f}"
+                f" {worst:6.1f}",
+                flush=True,
+            )
 
 
 def cells(size: int, channels: int, seed: int = 0, noise: float = 0.01) -> np.ndarray:
@@ -91,11 +153,7 @@ def quantile_field(size: int, samples: int = 128) -> tuple[np.ndarray, np.ndarra
 def paired(
     ours: Callable[[], object], base: Callable[[], object], repeat: int
 ) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Best (wall, CPU) times of ``ours`` and ``base``, run alternately after a warm-up.
-
-    CPU time (all threads of the process) is less disturbed by other jobs
-    taking the cores; both use the same number of threads.
-    """
+    """Best (wall, CPU) times of ``ours`` and ``base``, run alternately after a warm-up."""
     ours()
     base()
     best = {"ours": [math.inf, math.inf], "base": [math.inf, math.inf]}
@@ -124,32 +182,58 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--size", type=int, default=2048)
+    parser.add_argument("--guide-table", action="store_true")
     args = parser.parse_args()
-    edit, weights, what = chessboard(args.size)
+    edit, weights, what = real_edit(args.size)
     size = edit.shape[0]
-    print(f"data: {what}, {size}x{size}; sigma_range {SIGMA_RANGE} (of each edit range)")
+    print(f"data: {what}; sigma_range {SIGMA_RANGE} (of each edit range)")
+    if args.guide_table:
+        guide_table(edit, weights, args.repeat)
+        return
     color = np.ascontiguousarray(edit[..., :3])
-    base8 = cv2_bilateral(color, 8.0)
-    name8 = "cv2 3ch d=25 s=8"
 
-    def ours(image: np.ndarray, sigma: float, w: np.ndarray | None, dims: int | None = None):
+    def ours(image, sigma, w, dims=None, residual=MAX_RESIDUAL):
         return lambda: bilateral_filter(
             image,
             sigma_space_px=sigma,
             sigma_range=SIGMA_RANGE,
             channel_weights=w,
             guide_dims=dims,
+            max_residual=residual,
         )
 
-    t, b = paired(ours(color, 8.0, weights[:3]), base8, args.repeat)
-    line("3 ch (base color), sigma 8", t, b, name8)
+    auto = prepare_guide(edit, weights.astype(np.float64), SIGMA_RANGE, None, MAX_RESIDUAL)
+    full = prepare_guide(edit, weights.astype(np.float64), SIGMA_RANGE, None)
+    for sigma in (4.0, 8.0):
+        base = cv2_bilateral(color, sigma)
+        ratios = paired_ratios(ours(edit, sigma, weights), base, args.repeat)
+        goal(
+            f"bilateral 10 ch, guide auto ({auto.dims} axes), sigma {sigma:g} / cv2 3 ch",
+            ratios,
+            1.0,
+            strict=True,
+        )
+        ratios = paired_ratios(ours(edit, sigma, weights, residual=None), base, args.repeat)
+        print(
+            f"  full guide ({full.dims} axes), sigma {sigma:g} / cv2 3 ch:"
+            f" median {statistics.median(ratios):.2f}"
+        )
+        refs = [exact(edit[r : r + 64, c : c + 64], sigma, weights) for r, c in CROPS]
+        worst = min(
+            psnr(ours(np.ascontiguousarray(edit[r : r + 64, c : c + 64]), sigma, weights)(), ref)
+            for (r, c), ref in zip(CROPS, refs, strict=True)
+        )
+        # a goal in dB: printed as "40 dB / PSNR" so that smaller is better, like a ratio
+        goal(
+            f"bilateral guide auto, sigma {sigma:g}: 40 dB / worst crop PSNR ({worst:.1f} dB)",
+            [40.0 / worst],
+            1.0,
+        )
+    name8 = "cv2 3ch d=25 s=8"
+    base8 = cv2_bilateral(color, 8.0)
     for sigma in SIGMAS:
         t, b = paired(ours(edit, sigma, weights), base8, args.repeat)
-        line(f"10 ch (chessboard, guide 7-D), sigma {sigma:g}", t, b, name8)
-        if sigma != 8.0:
-            window = 2 * round(1.5 * sigma) + 1
-            t, b = paired(ours(edit, sigma, weights), cv2_bilateral(color, sigma), args.repeat)
-            line("  same, vs cv2 at the same sigma", t, b, f"cv2 3ch d={window} s={sigma:g}")
+        line(f"10 ch (real set, guide auto), sigma {sigma:g}", t, b, name8)
     independent = cells(size, 10, seed=1)
     for sigma_r in (0.3, 0.1):
 
@@ -161,7 +245,9 @@ def main() -> None:
     half = size // 2
     field, quadrature = quantile_field(half)
     color_half = np.ascontiguousarray(color[:half, :half])
-    t, b = paired(ours(field, 8.0, quadrature, 6), cv2_bilateral(color_half, 8.0), args.repeat)
+    t, b = paired(
+        ours(field, 8.0, quadrature, 6, None), cv2_bilateral(color_half, 8.0), args.repeat
+    )
     line(f"128 ch at {half}, guide 6 PCA dims, sigma 8", t, b, f"cv2 3ch {half}px d=25 s=8")
 
 
