@@ -198,8 +198,15 @@ def prepare_guide(
     flat = image.reshape(-1, image.shape[2])
     # enough samples for the leading axes; fewer for wide guides (cost ~ U^2)
     samples = max(_PCA_SAMPLES_MIN, min(_PCA_SAMPLES, _PCA_BUDGET // used.size**2))
-    step = max(1, flat.shape[0] // samples)
-    sample = flat[::step, used].astype(np.float64) * scales
+    if flat.shape[0] > samples:
+        # random texels (fixed seed): a stride through rows of a power-of-two width
+        # lands on a few columns only (every 64th texel of a 2K map: 32 columns)
+        index = np.random.default_rng(0).integers(0, flat.shape[0], samples)
+        index.sort()
+        flat_sample = np.take(flat, index, axis=0)
+    else:
+        flat_sample = flat
+    sample = flat_sample[:, used].astype(np.float64) * scales
     mean = sample.mean(axis=0)
     centred = sample - mean
     eigval, eigvec = np.linalg.eigh(centred.T @ centred)
