@@ -6,8 +6,12 @@ in the same run does not (much). Prints one line per case:
     python benchmarks/spaces.py [--repeat N]
 
 Cases: the 2K PBR set (base color, normal, roughness, metallic; the shared
-chessboard set when present, else synthetic maps of the same shape), each
-space alone, and a 1K sampled-distribution texture (128 channels).
+chessboard set when present, else synthetic maps of the same shape) and the
+real 10-channel set of ``_common.real_set`` (that set plus anisotropic
+exponents), each space alone, and a 1K sampled-distribution texture
+(128 channels) made from the chessboard's roughness the way
+``matshop.derive`` makes one. Goals (issue 16): round trip <= 8x, sampled
+distributions <= 20x each way.
 """
 
 from __future__ import annotations
@@ -15,8 +19,9 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
-from _common import CHESSBOARD, best_time
+from _common import CHESSBOARD, best_time, chessboard_material, goal, paired_ratios, real_set
 
+from matshop.derive import MIN_ALPHA
 from matshop.material import Material, Schema
 
 
@@ -55,42 +60,56 @@ def report(label: str, seconds: float, baseline: float, nbytes: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
 
-    material, what = pbr_material()
-    print(f"PBR set: {what}; parameters {', '.join(material.schema.names)}")
-    nbytes = sum(m.nbytes for m in material.maps.values())
-    baseline = copy_time(nbytes, args.repeat)
-    t_to = best_time(material.to_edit, args.repeat)
-    edit = material.to_edit()
-    t_from = best_time(edit.to_physical, args.repeat)
-    report("2K PBR set: to_edit", t_to, baseline, nbytes)
-    report("2K PBR set: from_edit", t_from, baseline, nbytes)
-    report("2K PBR set: round trip (to_edit + from_edit)", t_to + t_from, baseline, nbytes)
-    for param in material.schema.parameters:
-        phys = material.maps[param.name]
-        param_baseline = copy_time(phys.nbytes, args.repeat)
-        space = param.space
-        t = best_time(lambda s=space, p=phys: s.from_edit(s.to_edit(p)), args.repeat)
-        report(f"  {param.name} ({param.space.name}) round trip", t, param_baseline, phys.nbytes)
+    for material, what in (pbr_material(), real_set()):
+        print(f"set: {what}; parameters {', '.join(material.schema.names)}")
+        nbytes = sum(m.nbytes for m in material.maps.values())
+        src = np.ones(nbytes // 4, dtype=np.float32)
+        dst = np.empty_like(src)
+        baseline = copy_time(nbytes, args.repeat)
+        t_to = best_time(material.to_edit, args.repeat)
+        edit = material.to_edit()
+        t_from = best_time(edit.to_physical, args.repeat)
+        report("  to_edit", t_to, baseline, nbytes)
+        report("  from_edit", t_from, baseline, nbytes)
+        for param in material.schema.parameters:
+            phys = material.maps[param.name]
+            param_baseline = copy_time(phys.nbytes, args.repeat)
+            space = param.space
+            t = best_time(lambda s=space, p=phys: s.from_edit(s.to_edit(p)), args.repeat)
+            report(f"  {param.name} ({space.name}) round trip", t, param_baseline, phys.nbytes)
+        ratios = paired_ratios(
+            lambda m=material: m.to_edit().to_physical(),
+            lambda d=dst, s=src: np.copyto(d, s),
+            args.repeat,
+        )
+        channels = material.schema.edit_width
+        goal(f"spaces round trip, 2K set of {channels} edit ch / copy", ratios, 8.0)
 
     from matshop.spaces import get_space
     from matshop.spaces.sampled import d_from_ggx
 
     space = get_space("sampled")
-    size = 1024
-    rng = np.random.default_rng(1)
-    alpha = rng.uniform(0.05, 1.0, size=(size, size))
+    roughness = (
+        chessboard_material().maps["roughness"][:1024, :1024, 0]
+        if CHESSBOARD.is_dir()
+        else (np.random.default_rng(1).uniform(0.2, 1.0, size=(1024, 1024)))
+    )
+    # the engine's own derivation (matshop.derive): alpha = r^2, floored at MIN_ALPHA
+    alpha = np.clip(roughness.astype(np.float64) ** 2, MIN_ALPHA, 1.0)
     distribution = d_from_ggx(alpha, n=space.phys_channels)
-    nbytes = distribution.nbytes
-    baseline = copy_time(nbytes, args.repeat)
-    t_to = best_time(lambda: space.to_edit(distribution), args.repeat)
+    src = np.ones(distribution.size, dtype=np.float32)
+    dst = np.empty_like(src)
     edit_d = space.to_edit(distribution)
-    t_from = best_time(lambda: space.from_edit(edit_d), args.repeat)
-    report("1K sampled distribution (128 ch): to_edit", t_to, baseline, nbytes)
-    report("1K sampled distribution (128 ch): from_edit", t_from, baseline, nbytes)
-    report("1K sampled distribution: round trip", t_to + t_from, baseline, nbytes)
+    print("1K sampled distribution (128 ch) from the chessboard's roughness (GGX, alpha = r^2)")
+    for label, fn in (
+        ("to_edit", lambda: space.to_edit(distribution)),
+        ("from_edit", lambda: space.from_edit(edit_d)),
+    ):
+        ratios = paired_ratios(fn, lambda: np.copyto(dst, src), args.repeat)
+        goal(f"sampled distribution 128 ch, {label} / copy", ratios, 20.0)
 
 
 if __name__ == "__main__":

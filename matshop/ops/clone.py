@@ -70,7 +70,6 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
-from scipy.spatial import Delaunay, QhullError
 
 from ..material import Schema
 from . import _mvc
@@ -273,6 +272,8 @@ def _delaunay_cv2(points: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 
 def _delaunay_qhull(points: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     """The same with Qhull (the fallback): a tiny fixed jitter avoids the lattice's degeneracies."""
+    from scipy.spatial import Delaunay, QhullError  # here: 0.1-0.5 s to import, a fallback
+
     jitter = np.random.default_rng(0).uniform(-1e-3, 1e-3, points.shape)
     try:
         return Delaunay(points + jitter).simplices.astype(np.int64)

@@ -17,7 +17,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
 
 from ..material import Schema
 from ._kernels import line_tables, lut_apply
@@ -43,6 +42,8 @@ def curve_lut(points: Sequence[tuple[float, float]], size: int = LUT_SIZE) -> np
     t = np.linspace(0.0, 1.0, size)
     if len(xs) == 2:
         return (ys[0] + (t - xs[0]) * (ys[1] - ys[0]) / (xs[1] - xs[0])).astype(np.float64)
+    from scipy.interpolate import PchipInterpolator  # here: scipy.interpolate takes 0.2 s to import
+
     inside = PchipInterpolator(xs, ys, extrapolate=False)(t)
     left = ys[0] + (t - xs[0]) * (ys[1] - ys[0]) / (xs[1] - xs[0])
     right = ys[-1] + (t - xs[-1]) * (ys[-1] - ys[-2]) / (xs[-1] - xs[-2])

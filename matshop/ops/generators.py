@@ -22,7 +22,6 @@ widths, the unit of :func:`matshop.spaces.frame.height_to_normal`.
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from ..errors import InvalidValue
 
@@ -66,11 +65,15 @@ def integrate_height(normals: np.ndarray) -> np.ndarray:
 
 def convexity(height: np.ndarray, radius_px: float) -> np.ndarray:
     """``h - blur(h)`` at the scale ``radius_px`` (a Gaussian of that sigma, wrapped)."""
+    from scipy import ndimage  # imported where used: every op loads with the registry
+
     return height - ndimage.gaussian_filter(height, radius_px, mode="wrap")
 
 
 def ambient_occlusion(height: np.ndarray, radius_px: float) -> np.ndarray:
     """Horizon-based ambient occlusion in [0, 1] (1: the whole sky is seen)."""
+    from scipy import ndimage
+
     h = np.asarray(height, dtype=np.float64)
     steps = max(1, int(np.ceil(radius_px)))
     visible = np.zeros_like(h)
@@ -99,6 +102,8 @@ def shape_mask(
     the slope there, ``blur_px`` a Gaussian softening, ``invert`` flips it."""
     shaped = np.clip(0.5 + contrast * (np.asarray(values, np.float64) - level), 0.0, 1.0)
     if blur_px > 0:
+        from scipy import ndimage
+
         shaped = ndimage.gaussian_filter(shaped, blur_px, mode="wrap")
     return 1.0 - shaped if invert else shaped
 

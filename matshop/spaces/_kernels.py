@@ -953,3 +953,17 @@ def _call_frames(code, c_in, c_out, src, src_stride, dst, dst_stride, n):
         _normal_kernel(src, src_stride, dst, dst_stride, n, code, chunks(n))
     else:
         _frame_kernel(src, src_stride, dst, dst_stride, n, code, c_in, c_out, chunks(n))
+
+
+@njit(cache=True, parallel=True, nogil=True)
+def normalize_or_z(v, tiny, out):
+    """Rows of ``v`` (n, 3) float32 scaled to unit length into ``out``; length <= ``tiny`` (or NaN)
+    gives ``+z``. The float32 operations and their order are numpy's
+    (``sqrt((x*x + y*y) + z*z)``, then a division), so the result is the same bits."""
+    for i in prange(v.shape[0]):
+        x, y, z = v[i, 0], v[i, 1], v[i, 2]
+        length = np.sqrt(x * x + y * y + z * z)
+        if length > tiny:
+            out[i, 0], out[i, 1], out[i, 2] = x / length, y / length, z / length
+        else:
+            out[i, 0], out[i, 1], out[i, 2] = 0.0, 0.0, 1.0

@@ -1,0 +1,99 @@
+"""``matshop apply`` end to end as a ratio to a hand-written OpenCV script, in one run.
+
+    python benchmarks/apply.py [--repeat N] [--sigma 4]
+
+Both run as fresh processes on the shared chessboard set (four 2K JPEGs),
+alternately, and write PNGs into a new folder:
+
+* ``matshop apply SET OUT --op blur sigma_px=S`` (imports, reading, edit
+  space, the blur, conversion back, PNG writing at matshop's level);
+* the script below: ``cv2.imread`` each map, base colour sRGB -> linear
+  (float32), every map blurred with wrapped edges (``copyMakeBorder``
+  ``BORDER_WRAP``, ``GaussianBlur``, crop), normals decoded, blurred and
+  renormalised, base colour back to sRGB, ``cv2.imwrite`` at the same PNG
+  level. What a user would write by hand for "blur this set, linear colour,
+  tiling edges".
+
+Goal (issue 16): matshop within 1.5x of the script.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _common import CHESSBOARD, goal
+
+from matshop.io.images import PNG_LEVEL
+
+SCRIPT = r"""
+import sys
+from pathlib import Path
+import cv2
+import numpy as np
+
+src, out, sigma, level = Path(sys.argv[1]), Path(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4])
+out.mkdir()
+pad = int(np.ceil(4 * sigma))
+
+def blur(image):
+    wide = cv2.copyMakeBorder(image, pad, pad, pad, pad, cv2.BORDER_WRAP)
+    return cv2.GaussianBlur(wide, (0, 0), sigma)[pad:-pad, pad:-pad]
+
+def write(name, image):
+    cv2.imwrite(str(out / name), image, [cv2.IMWRITE_PNG_COMPRESSION, level])
+
+for path in sorted(src.iterdir()):
+    codes = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    value = codes.astype(np.float32) / 255.0
+    if "base_color" in path.name:
+        linear = np.where(value <= 0.04045, value / 12.92, ((value + 0.055) / 1.055) ** 2.4)
+        linear = np.clip(blur(linear.astype(np.float32)), 0.0, 1.0)
+        value = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+    elif "normal" in path.name:
+        n = blur(value * 2.0 - 1.0)
+        n /= np.linalg.norm(n, axis=-1, keepdims=True)
+        value = n * 0.5 + 0.5
+    else:
+        value = blur(value)
+    write(path.stem + ".png", np.clip(value * 255.0 + 0.5, 0, 255).astype(np.uint8))
+"""
+
+
+def timed(command: list[str]) -> float:
+    start = time.perf_counter()
+    subprocess.run(command, check=True, capture_output=True, cwd=Path(__file__).parents[1])
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--sigma", type=float, default=4.0)
+    args = parser.parse_args()
+    if not CHESSBOARD.is_dir():
+        print("the shared chessboard set is absent: nothing to measure")
+        return
+    sigma = f"{args.sigma:g}"
+    ratios = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for run in range(args.repeat + 1):  # the first pair warms the caches (numba, disk)
+            ours_out, cv2_out = Path(scratch, f"ours{run}"), Path(scratch, f"cv2{run}")
+            script = [sys.executable, "-c", SCRIPT, str(CHESSBOARD), str(cv2_out), sigma]
+            base = timed([*script, str(PNG_LEVEL)])
+            ours = timed(
+                [sys.executable, "-m", "matshop", "apply", str(CHESSBOARD), str(ours_out)]
+                + ["--op", "blur", f"sigma_px={sigma}"]
+            )
+            print(f"run {run}: matshop apply {ours:.2f} s, cv2 script {base:.2f} s")
+            if run:
+                ratios.append(ours / base)
+    goal(f"matshop apply blur sigma {sigma}, end to end / cv2 script", ratios, 1.5)
+
+
+if __name__ == "__main__":
+    main()
