@@ -5,13 +5,14 @@
 
 A ``--region``-px disc (or rounded square) of a ``--size`` material is
 cloned to another place of the same material (source = target, as the clone
-tool does) with every edit channel: the chessboard set's 8 edit channels
-widened to 10 like ``benchmarks/ops.py``, its first 3, and 128 (the 10
+tool does) with every edit channel: the real 10-channel set of ``_common.real_set``, its first 3, and 128 (the 10
 tiled). Baseline: ``cv2.seamlessClone(src_u8, dst_u8, mask_u8, center,
 cv2.NORMAL_CLONE)`` -- 3-channel 8-bit Poisson cloning of the same region
 to the same place. Reported per channel count:
 
 * first clone: ``seamless_clone(..., region=mask)`` (coordinates computed);
+  the goal row (issue 16: <= 1x at 10 channels) writes into the caller's
+  buffer (``out=``), as the editor's clone tool can;
 * re-clone: ``coordinates.clone`` at a new offset (coordinates reused, a drag),
   into a new array and into a reused ``out=`` buffer;
 * build: ``CloneCoordinates.from_region`` alone.
@@ -34,7 +35,7 @@ from collections.abc import Callable
 
 import cv2
 import numpy as np
-from _common import edit_channels
+from _common import edit_channels, goal, paired_ratios
 
 from matshop.ops.clone import CloneCoordinates, seamless_clone
 
@@ -133,6 +134,13 @@ def main() -> None:
             args.repeat,
         )
         line(f"first clone, {n}", first, base)
+        if channels == 10:
+            ratios = paired_ratios(
+                lambda e=edit, b=buffer: seamless_clone(e, e, region=mask, offset=offset, out=b),
+                baseline,
+                args.repeat,
+            )
+            goal("first clone into the caller's buffer, 10 ch / cv2.seamlessClone", ratios, 1.0)
         line(f"re-clone at a new offset, {n}", again, base)
         line(f"re-clone into a reused buffer (out=), {n}", into, base)
         print(f"{'':44s} (a plain copy of the {n} material: {copy * 1e3:.1f} ms)")

@@ -338,3 +338,14 @@ def test_bad_input_errors() -> None:
     coords = CloneCoordinates.from_region(mask, shape)
     with pytest.raises(ValueError, match="built for a 40x32 source"):
         coords.clone(target, texture((32, 41), 3), (0, 0))
+
+
+def test_seamless_clone_writes_into_the_callers_buffer() -> None:
+    rng = np.random.default_rng(3)
+    image = rng.random((64, 80, 4), dtype=np.float32)
+    mask = np.zeros((64, 80), dtype=bool)
+    mask[20:40, 10:30] = True
+    fresh = seamless_clone(image, image, region=mask, offset=(25, 5))
+    buffer = np.full_like(image, np.nan)
+    assert seamless_clone(image, image, region=mask, offset=(25, 5), out=buffer) is buffer
+    assert np.array_equal(buffer, fresh)

@@ -595,6 +595,7 @@ def seamless_clone(
     region: np.ndarray | Sequence | CloneCoordinates,
     offset: tuple[int, int],
     border: str = "wrap",
+    out: np.ndarray | None = None,
 ) -> np.ndarray:
     """Paste ``region`` of ``source`` into ``target`` at ``offset``, seamlessly.
 
@@ -614,12 +615,16 @@ def seamless_clone(
         Target positions outside the image: ``"wrap"`` around (tiling
         textures), ``"clamp"`` (pixels outside are dropped and the seam
         there reads the nearest edge pixel of the target), or ``"error"``.
+    out : ndarray, optional
+        Write the result into this array (shaped and typed like ``target``,
+        sharing memory with neither input) and return it: a caller that keeps
+        one buffer skips allocating and page-faulting a full-size image.
 
     Returns
     -------
     (H, W, C) ndarray
-        A new array: ``target`` outside the pasted region and on its
-        boundary pixels, ``source + membrane`` inside.
+        A new array (or ``out``): ``target`` outside the pasted region and on
+        its boundary pixels, ``source + membrane`` inside.
 
     Raises
     ------
@@ -632,8 +637,10 @@ def seamless_clone(
     _check_offset(offset)
     if not isinstance(region, CloneCoordinates):
         region = CloneCoordinates.from_region(region, source.shape[:2])
-    out = region.clone(target, source, offset, border)
-    return out[..., 0] if squeeze else out
+    if out is not None:
+        return region.clone(target, source, offset, border, out=out)
+    result = region.clone(target, source, offset, border)
+    return result[..., 0] if squeeze else result
 
 
 def clone(
