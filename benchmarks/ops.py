@@ -2,9 +2,10 @@
 
     python benchmarks/ops.py [--repeat N] [--size 2048]
 
-Data: the edit channels of a real PBR set (the shared chessboard, 8 edit
-channels, widened to 10 with two copies of roughness/metallic the way an
-emissive or AO map would) at 2K, and its first 3 channels. Baselines:
+Data: the edit channels of the real 10-channel set of ``_common.real_set``
+(the shared chessboard plus anisotropic exponents derived from it) at 2K,
+and its first 3 channels; curves here treat every channel alone
+(``benchmarks/curves.py`` has the goals, with the schema). Baselines:
 ``cv2.GaussianBlur`` on the same channels for blur; ``np.copyto`` of the same
 bytes (the bandwidth limit) for scale, curves and compositing.
 Bilateral and cloning have their own scripts: ``benchmarks/bilateral.py``

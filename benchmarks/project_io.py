@@ -13,7 +13,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
-from _common import CHESSBOARD, best_time
+from _common import CHESSBOARD, best_time, goal, paired_ratios
 
 from matshop.io.material_io import load_material
 from matshop.io.project import load_project, save_project
@@ -61,8 +61,11 @@ def main() -> None:
         save_s = best_time(lambda: save_project(doc, path), args.repeat)
         size_mb = path.stat().st_size / 1e6
         load_s = best_time(lambda: load_project(path), args.repeat)
-    print(f"{what}: project {size_mb:.1f} MB")
-    print(f"  save {save_s:.2f} s, reopen {load_s:.2f} s, reopen / save = {load_s / save_s:.2f}")
+        print(f"{what}: project {size_mb:.1f} MB")
+        ratio = load_s / save_s
+        print(f"  save {save_s:.2f} s, reopen {load_s:.2f} s, reopen / save = {ratio:.2f}")
+        ratios = paired_ratios(lambda: load_project(path), lambda: save_project(doc, path), 3)
+    goal("project reopen / save", ratios, 1.0)
 
 
 if __name__ == "__main__":
