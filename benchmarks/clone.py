@@ -6,9 +6,9 @@
 A ``--region``-px disc (or rounded square) of a ``--size`` material is
 cloned to another place of the same material (source = target, as the clone
 tool does) with every edit channel: the real 10-channel set of
-``_common.real_set``, its first 3, and 128 (the 10 tiled). Baseline: ``cv2.seamlessClone(src_u8, dst_u8, mask_u8, center,
-cv2.NORMAL_CLONE)`` -- 3-channel 8-bit Poisson cloning of the same region
-to the same place. Reported per channel count:
+``_common.real_set``, its first 3, and 128 (the 10 tiled). Baseline:
+``cv2.seamlessClone(src_u8, dst_u8, mask_u8, center, cv2.NORMAL_CLONE)`` --
+3-channel 8-bit Poisson cloning of the same region to the same place. Reported per channel count:
 
 * first clone: ``seamless_clone(..., region=mask)`` (coordinates computed);
   the goal row (issue 16: <= 1x at 10 channels) writes into the caller's
