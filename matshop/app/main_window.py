@@ -110,7 +110,7 @@ class MainWindow(QMainWindow):
         self.files.message.connect(self.show_message)
         self.files.recentChanged.connect(self._rebuild_recent)
         self.layer_commands.message.connect(self.show_message)
-        self.brush_settings.changed.connect(self.canvas.update)
+        self.brush_settings.changed.connect(self._brush_changed)
         self.session.targetChanged.connect(self._target_changed)
         self.canvas.cursorMoved.connect(self._cursor_moved)
         self._cursor = (math.nan, math.nan)
@@ -338,6 +338,14 @@ class MainWindow(QMainWindow):
             self.show_parameter(doc.schema.names[0])
         self._update_title()
         self.update_actions()
+
+    def _brush_changed(self) -> None:
+        """The mirror toggles and lines follow the symmetry; the cursor ring, the size."""
+        symmetry = self.brush_settings.symmetry
+        self.actions_by_name["mirror_x"].setChecked(symmetry.x)
+        self.actions_by_name["mirror_y"].setChecked(symmetry.y)
+        self.canvas.set_symmetry(symmetry)
+        self.canvas.update()
 
     def update_actions(self) -> None:
         """Enable what makes sense now (:data:`ENABLED_WHEN`); name the undo/redo steps."""

@@ -128,6 +128,25 @@ def build_actions(w: EditorWindow) -> dict[str, QAction]:
             w, "Smaller Brush", lambda: w.brush_settings.scale_radius(1 / 1.25), "["
         ),
         "size_up": _action(w, "Bigger Brush", lambda: w.brush_settings.scale_radius(1.25), "]"),
+        # checked state follows the brush settings (MainWindow._brush_changed)
+        "mirror_x": _action(
+            w,
+            "Mirror &X (Left/Right)",
+            lambda: w.brush_settings.set_mirror("x", not w.brush_settings.symmetry.x),
+            "Shift+X",
+            checkable=True,
+            tip="Brush and eraser strokes also paint their mirror image across the vertical "
+            "centre line",
+        ),
+        "mirror_y": _action(
+            w,
+            "Mirror &Y (Top/Bottom)",
+            lambda: w.brush_settings.set_mirror("y", not w.brush_settings.symmetry.y),
+            "Shift+Y",
+            checkable=True,
+            tip="Brush and eraser strokes also paint their mirror image across the horizontal "
+            "centre line",
+        ),
         "about": _action(w, "&About matshop", w.show_about),
         # toggled through the action's own signal (LitPreview listens to it)
         "lit": _action(
@@ -208,6 +227,8 @@ def build_menus(w: EditorWindow, a: dict[str, QAction]) -> None:
     tools_menu.addActions([a[f"tool_{name}"] for name in w.tools])
     tools_menu.addSeparator()
     tools_menu.addActions([a["size_down"], a["size_up"]])
+    tools_menu.addSeparator()
+    tools_menu.addActions([a["mirror_x"], a["mirror_y"]])
 
     help_menu = bar.addMenu("&Help")
     help_menu.addAction(a["about"])

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ..layers import Document, Edit, PaintLayer, Rect
-from ..paint import Brush, Swatch
+from ..paint import Brush, Swatch, Symmetry
 from ..tools.settings import BrushSettings, SwatchModel
 from .layer_commands import LayerCommands
 from .session import DocumentSession
@@ -36,6 +36,9 @@ class EditorToolHost:
 
     def brush(self) -> Brush:
         return self.brush_settings.brush()
+
+    def symmetry(self) -> Symmetry:
+        return self.brush_settings.symmetry
 
     def swatch(self) -> Swatch:
         return self.swatch_model.swatch()

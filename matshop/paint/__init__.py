@@ -6,6 +6,7 @@ Qt-free. Modules, one idea each:
 - :mod:`.brush` — :class:`Brush` settings and the dab footprint
 - :mod:`.stroke` — :class:`StrokeSample`, :class:`Stroker` (dab placement by spacing)
 - :mod:`.swatch` — :class:`Swatch` (a material to paint) and swatch libraries
+- :mod:`.symmetry` — :class:`Symmetry`, mirror images of a dab about the centre lines
 - :mod:`.painter` — :class:`StrokeSession`, painting, erasing and clone stamping
   into a layer's pixels or mask, one history step per stroke
 """
@@ -15,6 +16,7 @@ from .painter import StrokeSession, paint_stroke
 from .pressure import PressureCurve
 from .stroke import Dab, Stroker, StrokeSample
 from .swatch import Swatch, load_swatches, save_swatches
+from .symmetry import Symmetry
 
 __all__ = [
     "Brush",
@@ -24,6 +26,7 @@ __all__ = [
     "StrokeSession",
     "Stroker",
     "Swatch",
+    "Symmetry",
     "dab_footprint",
     "load_swatches",
     "paint_stroke",

@@ -10,6 +10,8 @@ one stroke paints every parameter of the swatch at once, predictably.
 
 Dabs that cross the image edge wrap to the other side (tiling textures) unless
 ``wrap=False``. Samples and dab centres are continuous texel coordinates.
+With a :class:`~.symmetry.Symmetry`, every dab is stamped with its mirror
+images too, into the same stroke buffer: one stroke, one undo step.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from ..ops.spec import MAX_OFFSET_PX
 from .brush import Brush, dab_footprint
 from .stroke import Dab, Stroker, StrokeSample
 from .swatch import Swatch
+from .symmetry import NONE, Symmetry, mirrored_footprints
 
 Mode = Literal["paint", "erase", "clone"]
 Target = Literal["pixels", "mask"]
@@ -81,6 +84,9 @@ class StrokeSession:
     mask_value : float
         What painting shows in a mask, as the mask reads: 1 reveals the layer,
         0 hides it, also after the mask was inverted (Photoshop's white and black).
+    symmetry : Symmetry or str, optional
+        Mirror each dab about the texture's centre lines (``"x"``: left/right,
+        ``"y"``: top/bottom, ``"xy"``: both); paint and erase strokes only.
     history : History, optional
         Where :meth:`end` pushes the stroke as one step.
     """
@@ -97,9 +103,14 @@ class StrokeSession:
         mask_value: float = 1.0,
         clone_offset: tuple[float, float] = (0.0, 0.0),
         wrap: bool = True,
+        symmetry: Symmetry | str = NONE,
         history: History | None = None,
         label: str | None = None,
     ) -> None:
+        if isinstance(symmetry, str):
+            symmetry = Symmetry.parse(symmetry)
+        if symmetry and mode == "clone":
+            raise InvalidValue("the clone stamp does not mirror: turn symmetry off to clone")
         if mode not in ("paint", "erase", "clone"):
             raise InvalidValue(f"unknown brush mode {mode!r} (paint, erase or clone)")
         if target not in ("pixels", "mask"):
@@ -122,6 +133,7 @@ class StrokeSession:
         self.mode = mode
         self.target = target
         self.wrap = wrap
+        self.symmetry = symmetry
         self.history = history
         self._values: np.ndarray | float = 0.0
         self._channels: np.ndarray | None = None
@@ -166,9 +178,12 @@ class StrokeSession:
 
     def _stamp(self, dab: Dab) -> None:
         x0, y0, footprint = dab_footprint(dab.x, dab.y, dab.radius_px, self.brush.hardness)
-        height, width = footprint.shape
-        for rect, where in footprint_pieces(x0, y0, height, width, self.doc, self.wrap):
-            self.stamp_alpha(rect, np.float32(dab.flow) * footprint[where])
+        doc = self.doc
+        images = mirrored_footprints(x0, y0, footprint, doc.width, doc.height, self.symmetry)
+        for x, y, alpha in images:
+            height, width = alpha.shape
+            for rect, where in footprint_pieces(x, y, height, width, doc, self.wrap):
+                self.stamp_alpha(rect, np.float32(dab.flow) * alpha[where])
         self.dabs += 1
 
     def stamp_alpha(self, rect: Rect, alpha: np.ndarray) -> None:

@@ -12,6 +12,7 @@
        "swatch": {"name": "bronze", "values": {"base_color": [0.45, 0.25, 0.08],
                                                 "roughness": [0.3]}},
        "mask_value": 1.0, "clone_offset": [-30, 12], "wrap": true,
+       "symmetry": "x",               # none | x | y | xy: mirror about the centre lines
        "points": [[x, y, pressure], [x, y], ...]}
     ]}
 
@@ -32,6 +33,7 @@ from .brush import Brush
 from .pressure import PressureCurve
 from .stroke import StrokeSample
 from .swatch import Swatch
+from .symmetry import Symmetry
 
 MAX_POINTS = 1_000_000
 #: coordinates beyond 16x the largest document side mean nothing more
@@ -49,6 +51,7 @@ _STROKE_KEYS = {
     "mask_value",
     "clone_offset",
     "wrap",
+    "symmetry",
     "points",
 }
 
@@ -145,11 +148,16 @@ def parse_stroke(data: Any) -> StrokeSpec:
         if not isinstance(data["wrap"], bool):
             raise InvalidValue("wrap must be true or false")
         options["wrap"] = data["wrap"]
+    if "symmetry" in data:
+        if not isinstance(data["symmetry"], str):
+            raise InvalidValue("symmetry must be none, x, y or xy")
+        options["symmetry"] = Symmetry.parse(data["symmetry"])
     layer = data.get("layer")
     if layer is not None and (isinstance(layer, bool) or not isinstance(layer, str | int)):
         raise InvalidValue("layer must be a layer name or id")
     samples, brush = _samples(data.get("points")), _brush(data.get("brush"))
-    dabs = _dab_estimate(samples, brush)
+    mirror = options.get("symmetry", Symmetry())
+    dabs = _dab_estimate(samples, brush) * (1 + mirror.x) * (1 + mirror.y)  # mirror images too
     if dabs > MAX_DABS:  # points far apart: refused before painting, not after minutes
         raise InvalidValue(_too_many_dabs(dabs, "the stroke"))
     return StrokeSpec(layer, samples, brush, options, dabs)

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
     from ..layers import Document, Edit
-    from ..paint import Brush, Swatch
+    from ..paint import Brush, Swatch, Symmetry
 
 
 @dataclass(frozen=True)
@@ -41,6 +41,10 @@ class ToolHost(Protocol):
     def doc(self) -> Document | None: ...
 
     def brush(self) -> Brush: ...
+
+    def symmetry(self) -> Symmetry:
+        """Which centre lines the brush and eraser mirror their strokes across."""
+        ...
 
     def swatch(self) -> Swatch:
         """The material to paint (raises ValueError when no parameter is enabled)."""
@@ -90,6 +94,8 @@ class Tool:
     tip = ""
     #: the brush sliders apply to this tool (the tool panel greys them out otherwise)
     uses_brush = True
+    #: strokes follow the brush's symmetry (the canvas shows where their mirror images land)
+    mirrors = False
 
     def __init__(self, host: ToolHost) -> None:
         self.host = host

@@ -5,8 +5,9 @@ paint layer, or into the active layer's mask while its thumbnail is selected
 (the brush hides, the eraser reveals): press starts it,
 every move feeds it a sample, release ends it and hands the single edit to
 the host's history, so a stroke is one undo step; a stroke that changes
-nothing leaves no step. :meth:`StrokeTool.action` says beforehand what a
-press will do (the status bar shows it). Engine refusals become a status
+nothing leaves no step. With symmetry on, a brush or eraser stroke (pixels or
+mask) paints its mirror images in the same stroke. :meth:`StrokeTool.action`
+says beforehand what a press will do (the status bar shows it). Engine refusals become a status
 message, never an exception in the event loop.
 """
 
@@ -40,6 +41,7 @@ class StrokeTool(Tool):
 
     mode = "paint"
     creates_layer = True
+    mirrors = True
 
     def __init__(self, host: ToolHost) -> None:
         super().__init__(host)
@@ -70,6 +72,8 @@ class StrokeTool(Tool):
             )
         if options is None or layer_id is None:
             return
+        if self.mirrors:
+            options = {**options, "symmetry": self.host.symmetry()}
         try:
             self._session = StrokeSession(
                 doc, layer_id, self.host.brush(), mode=self.mode, **options
@@ -193,6 +197,7 @@ class CloneTool(StrokeTool):
     shortcut = "S"
     tip = "Alt-click sets the source, then paint to copy from it (offset is kept)"
     mode = "clone"
+    mirrors = False  # a mirrored stamp would copy unmirrored content from beside the source
 
     def __init__(self, host: ToolHost) -> None:
         super().__init__(host)

@@ -16,7 +16,7 @@ from PySide6.QtCore import QObject, Signal
 
 from ..errors import InvalidValue
 from ..layers import Document, Rect
-from ..paint import Brush, Swatch
+from ..paint import Brush, Swatch, Symmetry
 
 #: Labels that fit a narrow panel (the schema's labels are descriptive: "Roughness (GGX)").
 SHORT_LABELS = {
@@ -61,13 +61,23 @@ BRUSH_SETTINGS: tuple[Setting, ...] = (
 
 
 class BrushSettings(QObject):
-    """Size, hardness, spacing, opacity and flow of the painting tools."""
+    """Size, hardness, spacing, opacity and flow of the painting tools, and their symmetry."""
 
     changed = Signal()
 
     def __init__(self) -> None:
         super().__init__()
         self.values = {s.name: s.default for s in BRUSH_SETTINGS}
+        #: mirror strokes of the brush and eraser about the texture's centre lines
+        self.symmetry = Symmetry()
+
+    def set_mirror(self, axis: str, on: bool) -> None:
+        """Mirror across ``axis`` (``"x"``: left/right, ``"y"``: top/bottom) or not."""
+        x, y = self.symmetry.x, self.symmetry.y
+        symmetry = Symmetry(on, y) if axis == "x" else Symmetry(x, on)
+        if symmetry != self.symmetry:
+            self.symmetry = symmetry
+            self.changed.emit()
 
     def brush(self) -> Brush:
         return Brush(**self.values)
@@ -83,14 +93,20 @@ class BrushSettings(QObject):
         """``[`` and ``]``: size steps proportional to the size, like every paint program."""
         self.set("radius_px", self.values["radius_px"] * factor)
 
-    def to_json(self) -> dict[str, float]:
-        return dict(self.values)
+    def to_json(self) -> dict[str, Any]:
+        return {**self.values, "symmetry": self.symmetry.name}
 
     def load_json(self, data: Any) -> None:
         if isinstance(data, dict):
             for spec in BRUSH_SETTINGS:
                 if isinstance(data.get(spec.name), int | float):
                     self.set(spec.name, data[spec.name])
+            try:
+                symmetry = Symmetry.parse(data.get("symmetry", "none"))
+            except (InvalidValue, TypeError):  # an older or hand-edited project: no mirror
+                symmetry = Symmetry()
+            self.set_mirror("x", symmetry.x)
+            self.set_mirror("y", symmetry.y)
 
 
 #: Physical defaults of a fresh swatch: a rusty iron a user can see on any material.

@@ -1,4 +1,4 @@
-"""The tool panel: brush sliders and the swatch editor.
+"""The tool panel: brush sliders, the mirror toggles and the swatch editor.
 
 The swatch editor has one row per parameter of the document: a check box
 (does the brush paint it?) and an editor suited to the parameter: a color
@@ -19,6 +19,7 @@ from PySide6.QtWidgets import (
     QColorDialog,
     QGridLayout,
     QGroupBox,
+    QHBoxLayout,
     QLabel,
     QVBoxLayout,
     QWidget,
@@ -47,7 +48,7 @@ def _ask_color(initial: QColor, parent: QWidget) -> QColor | None:
 
 
 class BrushPanel(QGroupBox):
-    """Size, hardness, spacing, opacity and flow sliders."""
+    """Size, hardness, spacing, opacity and flow sliders; mirror X / Y check boxes."""
 
     def __init__(self, settings: BrushSettings, parent: QWidget | None = None) -> None:
         super().__init__("Brush", parent)
@@ -69,11 +70,26 @@ class BrushPanel(QGroupBox):
             slider.edited.connect(lambda value, name=spec.name: settings.set(name, value))
             layout.addWidget(slider)
             self.sliders[spec.name] = slider
+        mirrors = QHBoxLayout()
+        self.mirrors: dict[str, QCheckBox] = {}
+        for axis, label, tip in (
+            ("x", "Mirror X", "Also paint the mirror image across the vertical centre line"),
+            ("y", "Mirror Y", "Also paint the mirror image across the horizontal centre line"),
+        ):
+            check = QCheckBox(label)
+            check.setToolTip(f"{tip} (Shift+{axis.upper()})")
+            check.toggled.connect(lambda on, axis=axis: settings.set_mirror(axis, on))
+            mirrors.addWidget(check)
+            self.mirrors[axis] = check
+        layout.addLayout(mirrors)
         settings.changed.connect(self._sync)
 
     def _sync(self) -> None:
         for name, slider in self.sliders.items():
             slider.set_value(self.settings.values[name])
+        symmetry = self.settings.symmetry
+        for axis, on in (("x", symmetry.x), ("y", symmetry.y)):
+            self.mirrors[axis].setChecked(on)
 
 
 class SwatchEditor(QGroupBox):

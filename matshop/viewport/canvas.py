@@ -27,6 +27,7 @@ from PySide6.QtGui import (
 from PySide6.QtWidgets import QWidget
 
 from ..layers import DirtyRegion, Document, Rect
+from ..paint.symmetry import Symmetry
 from ..tools.base import Tool, ToolEvent
 from .display_cache import DisplayCache
 from .mipmaps import level_for_zoom
@@ -34,6 +35,8 @@ from .view import ViewTransform
 
 BACKGROUND = QColor(30, 31, 34)
 FRAME = QColor(0, 0, 0, 110)
+#: the mirror lines of symmetric painting (light dashes over a dark line)
+MIRROR_LINE = QColor(90, 200, 255, 235)
 #: Wheel zoom per 1/8 degree: one 15 degree notch zooms by ~1.2.
 WHEEL_STEP = 1.2 ** (1.0 / 120.0)
 
@@ -66,6 +69,8 @@ class TextureCanvas(QWidget):
         self._space = False
         self._cursor: QPointF | None = None
         self._had_outlines = False
+        #: the brush's mirror axes: their lines are drawn, and the cursor's mirror images
+        self.symmetry = Symmetry()
         #: the lit display: a rendered image drawn over the texture (None: not yet rendered)
         self.lit = False
         self.overlay: QImage | None = None
@@ -136,6 +141,23 @@ class TextureCanvas(QWidget):
         if refining != self.refining:
             self.refining = refining
             self.update(QRect(0, 0, self.width(), 64))
+
+    def set_symmetry(self, symmetry: Symmetry) -> None:
+        """Draw the mirror line(s) of ``symmetry`` (none: no line)."""
+        if symmetry != self.symmetry:
+            self.symmetry = symmetry
+            self.update()
+
+    def _mirror_images(self, x: float, y: float) -> list[tuple[float, float]]:
+        """Where a dab at texel (x, y) is mirrored to (without (x, y) itself)."""
+        if self.doc is None or not self.symmetry or not self.tool or not self.tool.mirrors:
+            return []
+        points = [(x, y)]
+        if self.symmetry.x:
+            points.append((self.doc.width - x, y))
+        if self.symmetry.y:
+            points += [(px, self.doc.height - y) for px, _ in points]
+        return points[1:]
 
     def _light_at(self, pos: QPointF) -> None:
         if self.doc is not None:
@@ -257,6 +279,7 @@ class TextureCanvas(QWidget):
         if self.lit and self.overlay is not None and visible is not None and not visible.empty:
             self._draw_overlay(painter, target, visible)
         self._paint_outlines(painter)
+        self._paint_mirror_lines(painter)
         self._paint_cursor(painter)
         if self._held is not None:
             self._paint_note(painter, self._held)
@@ -368,6 +391,23 @@ class TextureCanvas(QWidget):
             painter.setPen(dashes)
             draw(polygon)
 
+    def _paint_mirror_lines(self, painter: QPainter) -> None:
+        """The texture's centre line(s) that strokes mirror across, while symmetry is on."""
+        if self.doc is None or not self.symmetry:
+            return
+        width, height = self.doc.width, self.doc.height
+        lines = []
+        if self.symmetry.x:
+            lines.append((self.to_widget(width / 2, 0), self.to_widget(width / 2, height)))
+        if self.symmetry.y:
+            lines.append((self.to_widget(0, height / 2), self.to_widget(width, height / 2)))
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
+        for start, end in lines:
+            painter.setPen(QPen(QColor(0, 0, 0, 170), 4))
+            painter.drawLine(start, end)
+            painter.setPen(QPen(MIRROR_LINE, 2, Qt.PenStyle.DashLine))
+            painter.drawLine(start, end)
+
     def _tool_input(self) -> None:
         """After the tool saw an event: repaint if it draws outlines (they may have changed)."""
         outlines = bool(self.tool is not None and self.tool.outlines())
@@ -389,6 +429,10 @@ class TextureCanvas(QWidget):
             painter.drawEllipse(centre, r, r)
             painter.setPen(QPen(QColor(255, 255, 255, 220), 1))
             painter.drawEllipse(centre, r, r)
+            # where the stroke's mirror images will land: thinner rings in the line's colour
+            painter.setPen(QPen(MIRROR_LINE, 1, Qt.PenStyle.DashLine))
+            for mx, my in self._mirror_images(*self.to_texel(centre)):
+                painter.drawEllipse(self.to_widget(mx, my), r, r)
         tx, ty = self.to_texel(centre)
         for mx, my in self.tool.markers(tx, ty):
             point = self.to_widget(mx, my)
@@ -515,9 +559,9 @@ class TextureCanvas(QWidget):
         if self._cursor is None or self.tool is None:
             return
         radius = (self.tool.cursor_radius() or 0.0) * self.view.zoom + 10.0
-        points = [self._cursor]
         tx, ty = self.to_texel(self._cursor)
-        points += [self.to_widget(mx, my) for mx, my in self.tool.markers(tx, ty)]
-        for point in points:
-            r = radius if point is self._cursor else 10.0
-            self.update(QRectF(point.x() - r, point.y() - r, 2 * r, 2 * r).toAlignedRect())
+        rings = [self._cursor] + [self.to_widget(mx, my) for mx, my in self._mirror_images(tx, ty)]
+        markers = [self.to_widget(mx, my) for mx, my in self.tool.markers(tx, ty)]
+        for points, r in ((rings, radius), (markers, 10.0)):
+            for point in points:
+                self.update(QRectF(point.x() - r, point.y() - r, 2 * r, 2 * r).toAlignedRect())
