@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .errors import MatshopError
-from .io.images import read_image
+from .io.images import luminance, read_image, resample_image
 from .io.material_io import LoadReport, load_material, save_material
 from .material import EditMaterial, Material, ProgressCallback
 from .ops import get_op
@@ -42,22 +42,8 @@ def load_mask(path: PathLike, size: tuple[int, int], *, resample: bool = False) 
         raise MatshopError(
             f"mask is {info.width}x{info.height}, the material is {size[1]}x{size[0]}", path
         )
-    channels = pixels.shape[2]
     # gray, gray+alpha: the gray; RGB(A): Rec. 709 luminance of the color
-    if channels >= 3:
-        gray = pixels[..., :3] @ np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
-    else:
-        gray = np.ascontiguousarray(pixels[..., 0])
-    if gray.shape != tuple(size):
-        import cv2
-
-        shrinking = size[0] * size[1] < gray.size
-        gray = cv2.resize(
-            gray,
-            (size[1], size[0]),
-            interpolation=cv2.INTER_AREA if shrinking else cv2.INTER_LINEAR,
-        )
-    return gray
+    return resample_image(luminance(pixels), size)
 
 
 class EditableMaterial:

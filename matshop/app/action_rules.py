@@ -61,6 +61,7 @@ ENABLED_WHEN: dict[str, Rule] = {
     "add_fill": document_open,
     "add_filter": document_open,
     "add_recipe": document_open,
+    "import_image": document_open,
     "curves": document_open,
     "fit": document_open,
     "actual": document_open,

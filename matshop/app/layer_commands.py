@@ -37,6 +37,10 @@ from .session import DocumentSession
 
 T = TypeVar("T")
 
+#: :meth:`LayerCommands.import_image` uses besides a parameter's name
+HEIGHT_USE = "height->normal"
+MASK_USE = "mask"
+
 
 @cache
 def filter_ops() -> tuple[tuple[str, str], ...]:
@@ -153,6 +157,55 @@ class LayerCommands(QObject):
         note = "; its [export] table is for matshop batch" if recipe.export is not None else ""
         self.message.emit(f"Added {len(layers)} filter layer(s) from {path.name}{note}")
         return [layer.id for layer in layers]
+
+    def image_uses(self) -> list[tuple[str, str]]:
+        """``(use, label)`` of what an image can become in the open document: a parameter's
+        values (normals also from a height image), or the active layer's mask."""
+        from ..image_content import HEIGHT_PX
+        from ..tools.settings import short_label
+
+        doc, layer = self.session.doc, self.session.active_layer
+        if doc is None:
+            return []
+        uses = []
+        for param in doc.schema.parameters:
+            if param.name == "normal" and param.phys_channels == 3:
+                uses.append(("normal", "Normal (a normal map)"))
+                uses.append((HEIGHT_USE, f"Normal from height ({HEIGHT_PX:g} px full range)"))
+            elif param.phys_channels in (1, 3) and param.name != "normal":
+                uses.append((param.name, f"{short_label(param.name)} values"))
+        if layer is not None:
+            uses.append((MASK_USE, f"Mask of layer {layer.name!r}"))
+        return uses
+
+    def import_image(self, path: Path, use: str) -> int | None:
+        """The image as ``use`` (see :meth:`image_uses`), one undo step; the new paint
+        layer's id, or the masked layer's."""
+        from ..image_content import image_layer, image_mask
+
+        doc, active = self.session.doc, self.session.active_layer
+        if doc is None:
+            return None
+        if use == MASK_USE:
+            if active is None:
+                return None
+            made = self._attempt(image_mask, doc, path)
+            if made is None or not self._push(SetMask(active.id, made[0])):
+                return None
+            self._tell(made[1], f"{path.name} masks layer {active.name!r}")
+            return active.id
+        parameters = ("normal",) if use == HEIGHT_USE else (use,)
+        made = self._attempt(image_layer, doc, path, parameters, as_height=use == HEIGHT_USE)
+        if made is None:
+            return None
+        layer, notes = made
+        if not self._push(AddLayer(layer, self._above_active())):
+            return None
+        self._tell(notes, f"Added paint layer {layer.name!r} from {path.name}")
+        return layer.id
+
+    def _tell(self, notes: list[str], done: str) -> None:
+        self.message.emit("; ".join([done, *notes]))
 
     def duplicate_active(self) -> int | None:
         """A copy of the active layer just above it (its tiles shared, copy-on-write)."""

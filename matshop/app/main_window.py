@@ -39,6 +39,7 @@ from .busy_indicator import BusyIndicator
 from .curves_dialog import CurvesDialog
 from .files import FileController
 from .history_panel import HistoryPanel
+from .image_import import import_image, is_image
 from .layer_commands import LayerCommands
 from .layers_panel import LayersPanel
 from .lit_preview import LitPreview
@@ -453,7 +454,10 @@ class MainWindow(QMainWindow):
         paths = [Path(url.toLocalFile()) for url in event.mimeData().urls() if url.isLocalFile()]
         if paths:
             event.acceptProposedAction()
-            self.open_path(paths[0])
+            if self.session.doc is not None and is_image(paths[0]):
+                import_image(self, paths[0], dropped=True)  # asks what to make of it
+            else:
+                self.open_path(paths[0])
 
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt override
         if not self.files.close_document():

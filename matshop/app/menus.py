@@ -14,6 +14,7 @@ from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 from PySide6.QtWidgets import QMenu
 
 from .icons import icon
+from .image_import import import_image
 from .layer_commands import filter_ops
 
 if TYPE_CHECKING:
@@ -84,6 +85,14 @@ def build_actions(w: EditorWindow) -> dict[str, QAction]:
             "Add Layers from &Recipe...",
             lambda: layers.add_recipe_layers(w.prompts.open_recipe()),
             tip="The op chain of a matshop batch recipe (.toml) as filter layers",
+        ),
+        "import_image": _action(
+            w,
+            "Import &Image...",
+            lambda: import_image(w),
+            "Ctrl+Shift+I",
+            tip="An image as a new paint layer's values (color, roughness, normals from a "
+            "height...) or as the active layer's mask",
         ),
         "curves": _action(
             w,
@@ -207,7 +216,7 @@ def build_menus(w: EditorWindow, a: dict[str, QAction]) -> None:
     layer_menu = bar.addMenu("&Layer")
     layer_menu.addActions([a["add_paint"], a["add_fill"]])
     layer_menu.addMenu(w.filter_menu)
-    layer_menu.addActions([a["curves"], a["add_recipe"]])
+    layer_menu.addActions([a["curves"], a["add_recipe"], a["import_image"]])
     layer_menu.addSeparator()
     layer_menu.addActions([a["duplicate"], a["group"], a["ungroup"]])
     layer_menu.addSeparator()

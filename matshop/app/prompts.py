@@ -94,6 +94,19 @@ class Prompts:
         path, _ = QFileDialog.getOpenFileName(self.parent, "Open", start, OPEN_FILTER)
         return Path(path) if path else None
 
+    def open_image(self, start: str = "") -> Path | None:
+        path, _ = QFileDialog.getOpenFileName(
+            self.parent, "Import image", start, f"Images ({IMAGE_FILTER});;All files (*)"
+        )
+        return Path(path) if path else None
+
+    def choose_image_use(self, name: str, choices: list[str]) -> str | None:
+        """What to make of image ``name``: one of ``choices``; None when the user cancels."""
+        choice, ok = QInputDialog.getItem(
+            self.parent, "Import image", f"Use {name} as:", choices, 0, False
+        )
+        return choice if ok and choice else None
+
     def open_mesh(self, start: str = "") -> Path | None:
         path, _ = QFileDialog.getOpenFileName(self.parent, "Open mesh", start, MESH_FILTER)
         return Path(path) if path else None

@@ -34,6 +34,9 @@ class ScriptedPrompts(Prompts):
         self.save_path: Path | None = None
         self.open_path: Path | None = None
         self.mesh_path: Path | None = None
+        self.image_path: Path | None = None
+        #: the answer to "use this image as": picks from the labels offered (None: cancel)
+        self.image_use: Callable[[list[str]], str | None] = lambda labels: None
         self.recipe_path: Path | None = None
         self.folder: Path | None = None
         self.preset: str | None = None
@@ -73,6 +76,14 @@ class ScriptedPrompts(Prompts):
     def open_file(self, start: str = "") -> Path | None:
         self.asked.append(("open_file", start))
         return self.open_path
+
+    def open_image(self, start: str = "") -> Path | None:
+        self.asked.append(("open_image", start))
+        return self.image_path
+
+    def choose_image_use(self, name: str, choices: list[str]) -> str | None:
+        self.asked.append(("image_use", f"{name}: " + " | ".join(choices)))
+        return self.image_use(choices)
 
     def open_mesh(self, start: str = "") -> Path | None:
         self.asked.append(("open_mesh", start))

@@ -151,6 +151,33 @@ def read_image(
     return pixels, info
 
 
+#: Rec. 709 luminance weights: the gray of a color image used as a mask or a scalar
+REC709 = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
+
+
+def luminance(pixels: np.ndarray) -> np.ndarray:
+    """``(H, W)`` gray of image pixels ``(H, W, C)``: gray (+alpha) as is, RGB(A) by Rec. 709."""
+    if pixels.shape[2] >= 3:
+        return pixels[..., :3] @ REC709
+    return np.ascontiguousarray(pixels[..., 0])
+
+
+def resample_image(array: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """``array`` (H, W) or (H, W, C) brought to ``size`` (rows, columns): area-averaged
+    down (no aliasing), bilinear up."""
+    if array.shape[:2] == tuple(size):
+        return array
+    import cv2
+
+    shrinking = size[0] * size[1] < array.shape[0] * array.shape[1]
+    out = cv2.resize(
+        np.ascontiguousarray(array),
+        (size[1], size[0]),
+        interpolation=cv2.INTER_AREA if shrinking else cv2.INTER_LINEAR,
+    )
+    return out.reshape(*size, *array.shape[2:])  # cv2 drops a single channel's axis
+
+
 def write_image(
     path: str | os.PathLike[str],
     array: np.ndarray,

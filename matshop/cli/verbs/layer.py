@@ -21,17 +21,51 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     actions = parser.add_subparsers(dest="layer_action", metavar="ACTION", required=True)
     add = actions.add_parser(
         "add",
-        help="add a paint, fill, filter or group layer on top (or at --index, or into --group)",
+        help="add a paint, fill, filter or group layer on top (or at --index, or into --group), "
+        "or an image as a paint layer's values or as a layer's mask",
         epilog="examples: layer add p.matshop fill --value base_color=0.6,0.25,0.1 "
         "--value roughness=0.8 | layer add p.matshop fill --from rust/ --mask m.png | "
-        "layer add p.matshop filter --op bilateral sigma_px=6 | layer add p.matshop paint",
+        "layer add p.matshop filter --op bilateral sigma_px=6 | layer add p.matshop paint | "
+        "layer add p.matshop image decal.png --params base_color | "
+        "layer add p.matshop image bumps.png --as-height --height-px 6 | "
+        "layer add p.matshop image dirt.png --as-mask --layer Rust. An image of another "
+        "size than the project is resampled to it (area-averaged down, bilinear up), "
+        "with a note.",
     )
     add.add_argument("project", type=Path, metavar="PROJECT")
-    add.add_argument("kind", choices=("paint", "fill", "filter", "group"))
+    add.add_argument("kind", choices=("paint", "fill", "filter", "group", "image"))
+    add.add_argument(
+        "file",
+        nargs="?",
+        type=Path,
+        metavar="FILE",
+        help="image: the image (its alpha, if any, is the layer's coverage)",
+    )
+    add.add_argument(
+        "--as-height",
+        action="store_true",
+        help="image: FILE is a height map, made into normals (the layer affects normal)",
+    )
+    add.add_argument(
+        "--height-px",
+        type=float,
+        help="image --as-height: texel widths of displacement FILE's full range spans (8)",
+    )
+    add.add_argument(
+        "--as-mask",
+        action="store_true",
+        help="image: make FILE (gray, or a color image's luminance) the mask of --layer",
+    )
+    add.add_argument(
+        "--layer", dest="masked", help="image --as-mask: the layer to mask (default: the top one)"
+    )
     add.add_argument("--name")
     add.add_argument("--opacity", type=float)
     add.add_argument("--blend", help="normal, add, subtract, multiply or detail")
-    add.add_argument("--params", help="parameters the layer affects (default: all)")
+    add.add_argument(
+        "--params",
+        help="parameters the layer affects (default: all); image: those taking its values",
+    )
     add.add_argument("--hidden", action="store_true", help="add it hidden")
     add.add_argument("--index", type=int, help="stack position (0 = bottom; default: top)")
     add.add_argument("--group", help="put it into this group (just below the group layer)")
@@ -124,18 +158,30 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
     if args.hidden:
         props["visible"] = False
     parameters = names(args.params)
+    image = args.kind == "image"
     misplaced = {
         "--value": args.value and args.kind != "fill",
         "--from": args.source is not None and args.kind != "fill",
         "--op": args.op is not None and args.kind != "filter",
+        "FILE": args.file is not None and not image,
+        "--as-height": args.as_height and not image,
+        "--height-px": args.height_px is not None and not args.as_height,
+        "--as-mask": args.as_mask and not image,
+        "--layer": args.masked is not None and not args.as_mask,
     }
     for option, wrong in misplaced.items():
         if wrong:
             raise MatshopError(f"{option} does not apply to a {args.kind} layer")
+    if image and args.file is None:
+        raise MatshopError("an image layer needs the image: layer add PROJECT image FILE ...")
+    if args.as_mask:
+        return _image_as_mask(args, doc, history, settings)
     if args.kind == "paint":
         layer = doc.new_paint_layer(args.name, **props)
     elif args.kind == "group":
         layer = doc.new_group_layer(args.name, **props)
+    elif image:
+        layer = _image_layer(args, doc, parameters, props)
     elif args.kind == "fill":
         if bool(args.value) == (args.source is not None):
             raise MatshopError("a fill layer needs --value PARAM=V... or --from TEXTURE_SET")
@@ -181,6 +227,65 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
         history.push(SetMask(layer.id, doc.new_mask(array=generated[..., None])))
     save_project(doc, args.project, settings=settings)
     print(f"added {layer.kind} layer {layer.id} {layer.name!r}")
+    return 0
+
+
+def _image_layer(args: argparse.Namespace, doc: Document, parameters, props: dict):
+    """The paint layer holding FILE's values for --params (or normals from a height)."""
+    from ...image_content import HEIGHT_PX, image_layer
+
+    if args.as_height:
+        parameters = parameters or ("normal",)
+    elif not parameters:
+        raise MatshopError(
+            "an image layer needs --params (the parameters taking its values), "
+            "--as-height (normals from a height map) or --as-mask"
+        )
+    height_px = HEIGHT_PX if args.height_px is None else args.height_px
+    layer, notes = image_layer(
+        doc,
+        args.file,
+        parameters,
+        name=args.name,
+        as_height=args.as_height,
+        height_px=height_px,
+        **props,
+    )
+    for note in notes:
+        print(note)
+    return layer
+
+
+def _image_as_mask(args: argparse.Namespace, doc: Document, history, settings) -> int:
+    """``layer add PROJECT image FILE --as-mask [--layer LAYER]``: FILE masks that layer."""
+    from ...image_content import image_mask
+
+    others = {
+        "--params": args.params,
+        "--as-height": args.as_height,
+        "--name": args.name,
+        "--opacity": args.opacity is not None,
+        "--blend": args.blend,
+        "--index": args.index is not None,
+        "--group": args.group,
+        "--mask": args.mask,
+        "--mask-generator": getattr(args, "mask_generator", None),
+    }
+    for option, given in others.items():
+        if given:
+            raise MatshopError(f"{option} does not apply with --as-mask (the image is a mask)")
+    if args.masked is not None:
+        layer = find_layer(doc, args.masked, args.project)
+    elif len(doc):
+        layer = doc.layers[-1]
+    else:
+        raise MatshopError("the project has no layer to mask", args.project)
+    mask, notes = image_mask(doc, args.file)
+    history.push(SetMask(layer.id, mask))
+    save_project(doc, args.project, settings=settings)
+    for note in notes:
+        print(note)
+    print(f"masked layer {layer.id} {layer.name!r} with {args.file.name}")
     return 0
 
 
