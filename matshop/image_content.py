@@ -50,13 +50,19 @@ def _resample_note(path: Path, width: int, height: int, doc: Document) -> list[s
 
 
 def _physical(
-    param: Parameter, rgb: np.ndarray, gray: np.ndarray, as_height: bool, height_px: float, doc
+    param: Parameter,
+    rgb: np.ndarray,
+    gray: np.ndarray,
+    *,
+    as_height: bool,
+    height_px: float,
+    convention: str,
 ) -> np.ndarray:
     """The physical values ``(H, W, phys_channels)`` parameter ``param`` takes from the image."""
     if param.name == "normal" and param.phys_channels == 3:
         if as_height:
             return height_to_normal(gray * np.float32(height_px), wrap=True)
-        return decode_normal_map(np.clip(rgb, 0.0, 1.0), convention=doc.normal_convention)
+        return decode_normal_map(np.clip(rgb, 0.0, 1.0), convention=convention)  # type: ignore[arg-type]
     if as_height:
         raise InvalidValue("a height image makes normals: pick the normal parameter")
     if param.phys_channels == 3:
@@ -109,7 +115,14 @@ def image_values(
     for name in parameters:
         param = doc.schema[name]
         try:
-            phys = _physical(param, rgb, gray, as_height, height_px, doc)
+            phys = _physical(
+                param,
+                rgb,
+                gray,
+                as_height=as_height,
+                height_px=height_px,
+                convention=doc.normal_convention,
+            )
             with np.errstate(all="ignore"):
                 edit = param.space.to_edit(np.ascontiguousarray(phys, dtype=np.float32))
         except (InvalidValue, ValueError) as exc:

@@ -76,6 +76,7 @@ def test_mirror_x_paints_the_flip_of_the_stroke_in_one_undo_step(window, qtbot) 
     assert window.actions_by_name["mirror_x"].isChecked()
     assert window.tool_panel.brush_panel.mirrors["x"].isChecked()
     assert window.canvas.symmetry == Symmetry(x=True)
+    assert window.tool_label.text().endswith("(mirrored left/right)")  # the status bar says so
     assert line_texels(window) > 200  # the centre line is drawn (dashed) down the texture
 
     stroke(window)  # onto the base fill: a paint layer is added, then the stroke

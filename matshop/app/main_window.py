@@ -128,6 +128,7 @@ class MainWindow(QMainWindow):
             self.session.targetChanged,
             self.session.historyChanged,
             self.swatch_model.changed,
+            self.brush_settings.changed,  # the mirror toggles
         ):
             signal.connect(self.update_tool_action)
 

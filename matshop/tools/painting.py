@@ -114,6 +114,14 @@ class StrokeTool(Tool):
         return self.host.brush().radius_px
 
     def action(self) -> str:
+        text = self._action()
+        symmetry = self.host.symmetry() if self.mirrors and text else None
+        if symmetry:
+            axes = {"x": "left/right", "y": "top/bottom", "xy": "both ways"}[symmetry.name]
+            text += f" (mirrored {axes})"
+        return text
+
+    def _action(self) -> str:
         doc = self.host.doc
         if doc is None:
             return ""

@@ -10,7 +10,7 @@ import numpy as np
 
 from ...errors import MatshopError, naming
 from ...io.project import save_project
-from ...layers import AddLayer, Document, RemoveLayer, SetMask, SetProperty
+from ...layers import AddLayer, Document, History, RemoveLayer, SetMask, SetProperty
 from ...layers.layer import PaintLayer
 from ...paint import Swatch
 from ..project import about_project, find_layer, names, open_project
@@ -230,7 +230,9 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
     return 0
 
 
-def _image_layer(args: argparse.Namespace, doc: Document, parameters, props: dict):
+def _image_layer(
+    args: argparse.Namespace, doc: Document, parameters: tuple[str, ...] | None, props: dict
+) -> PaintLayer:
     """The paint layer holding FILE's values for --params (or normals from a height)."""
     from ...image_content import HEIGHT_PX, image_layer
 
@@ -256,7 +258,9 @@ def _image_layer(args: argparse.Namespace, doc: Document, parameters, props: dic
     return layer
 
 
-def _image_as_mask(args: argparse.Namespace, doc: Document, history, settings) -> int:
+def _image_as_mask(
+    args: argparse.Namespace, doc: Document, history: History, settings: dict
+) -> int:
     """``layer add PROJECT image FILE --as-mask [--layer LAYER]``: FILE masks that layer."""
     from ...image_content import image_mask
 
