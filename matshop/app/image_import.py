@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .main_window import MainWindow
+    from .window_parts import EditorWindow
 
 #: the dropped-image choice that keeps what a drop always did: open it as a material
 OPEN_INSTEAD = "Open it as a new material"
@@ -16,7 +16,7 @@ IMAGE_SUFFIXES = frozenset(
 )
 
 
-def import_image(window: MainWindow, path: Path | None = None, *, dropped: bool = False) -> bool:
+def import_image(window: EditorWindow, path: Path | None = None, *, dropped: bool = False) -> bool:
     """Ask for an image (unless ``path``) and what it becomes, then make it so (one undo step).
 
     A dropped image may also be opened as a new material, as a drop did before.

@@ -10,6 +10,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Protocol
 
 if TYPE_CHECKING:
+    from pathlib import Path
+
     from PySide6.QtCore import Qt
     from PySide6.QtGui import QAction
     from PySide6.QtWidgets import QDockWidget, QMenu, QMenuBar
@@ -52,6 +54,7 @@ class EditorWindow(Protocol):
     def set_tool(self, name: str) -> None: ...
     def show_about(self) -> None: ...
     def show_message(self, text: str) -> None: ...
+    def open_path(self, path: str | Path) -> bool: ...
 
     # QMainWindow's own, used to place actions and docks
     def addAction(self, action: QAction) -> None: ...  # noqa: N802 (Qt's names)
