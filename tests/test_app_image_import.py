@@ -85,7 +85,8 @@ def test_layer_import_image_makes_a_paint_layer_of_the_files_codes(window, tmp_p
     steps = window.session.steps
     window.actions_by_name["import_image"].trigger()
     asked = dict(window.prompts.asked)
-    assert "Normal from height" in asked["image_use"] and "Mask of layer" in asked["image_use"]
+    assert "Normal from a height image" in asked["image_use"]
+    assert "Mask of layer" in asked["image_use"]
     assert OPEN_INSTEAD not in asked["image_use"]  # the menu imports; only a drop may open
     layer = window.session.active_layer
     assert layer.kind == "paint" and layer.parameters == ("base_color",)
@@ -142,11 +143,13 @@ def test_an_image_dropped_on_the_canvas_can_become_the_active_layers_mask(window
 def test_a_height_image_from_the_menu_tilts_the_normals_by_atan_slope(window, tmp_path) -> None:
     ramp = np.tile(np.arange(SIZE) * 255 // (SIZE - 1), (SIZE, 1)).astype(np.uint8)
     window.prompts.image_path = write(tmp_path / "ramp.png", ramp)
-    window.prompts.image_use = pick("Normal from height")
+    window.prompts.image_use = pick("Normal from a height image")
+    window.prompts.height_px = lambda default: 20.0  # the artist's answer, default offered
     window.actions_by_name["import_image"].trigger()
+    assert dict(window.prompts.asked)["height_px"] == "ramp.png: 8"
     normal = window.session.doc.physical()["normal"][..., :3]
     codes = read_codes(window.prompts.image_path)[..., 0] / 255.0
-    from matshop.image_content import HEIGHT_PX
+    HEIGHT_PX = 20.0  # noqa: N806
 
     # central differences of the file's own (8-bit) codes, scaled to texels
     slope = HEIGHT_PX * (np.roll(codes, -1, axis=1) - np.roll(codes, 1, axis=1)) / 2

@@ -6,6 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..image_content import HEIGHT_PX
+from .layer_commands import HEIGHT_USE
+
 if TYPE_CHECKING:
     from .window_parts import EditorWindow
 
@@ -35,7 +38,12 @@ def import_image(window: EditorWindow, path: Path | None = None, *, dropped: boo
     if choice == OPEN_INSTEAD:
         return window.open_path(path)
     use = next(use for use, label in uses if label == choice)
-    return window.layer_commands.import_image(path, use) is not None
+    height_px = None
+    if use == HEIGHT_USE:
+        height_px = window.prompts.ask_height_px(path.name, HEIGHT_PX)
+        if height_px is None:
+            return False
+    return window.layer_commands.import_image(path, use, height_px=height_px) is not None
 
 
 def is_image(path: Path) -> bool:

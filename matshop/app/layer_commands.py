@@ -161,7 +161,6 @@ class LayerCommands(QObject):
     def image_uses(self) -> list[tuple[str, str]]:
         """``(use, label)`` of what an image can become in the open document: a parameter's
         values (normals also from a height image), or the active layer's mask."""
-        from ..image_content import HEIGHT_PX
         from ..tools.settings import short_label
 
         doc, layer = self.session.doc, self.session.active_layer
@@ -171,17 +170,18 @@ class LayerCommands(QObject):
         for param in doc.schema.parameters:
             if param.name == "normal" and param.phys_channels == 3:
                 uses.append(("normal", "Normal (a normal map)"))
-                uses.append((HEIGHT_USE, f"Normal from height ({HEIGHT_PX:g} px full range)"))
+                uses.append((HEIGHT_USE, "Normal from a height image"))
             elif param.phys_channels in (1, 3) and param.name != "normal":
                 uses.append((param.name, f"{short_label(param.name)} values"))
         if layer is not None:
             uses.append((MASK_USE, f"Mask of layer {layer.name!r}"))
         return uses
 
-    def import_image(self, path: Path, use: str) -> int | None:
+    def import_image(self, path: Path, use: str, *, height_px: float | None = None) -> int | None:
         """The image as ``use`` (see :meth:`image_uses`), one undo step; the new paint
-        layer's id, or the masked layer's."""
-        from ..image_content import image_layer, image_mask
+        layer's id, or the masked layer's. ``height_px``: a height image's displacement
+        (default :data:`~matshop.image_content.HEIGHT_PX`)."""
+        from ..image_content import HEIGHT_PX, image_layer, image_mask
 
         doc, active = self.session.doc, self.session.active_layer
         if doc is None:
@@ -195,7 +195,14 @@ class LayerCommands(QObject):
             self._tell(made[1], f"{path.name} masks layer {active.name!r}")
             return active.id
         parameters = ("normal",) if use == HEIGHT_USE else (use,)
-        made = self._attempt(image_layer, doc, path, parameters, as_height=use == HEIGHT_USE)
+        made = self._attempt(
+            image_layer,
+            doc,
+            path,
+            parameters,
+            as_height=use == HEIGHT_USE,
+            height_px=HEIGHT_PX if height_px is None else height_px,
+        )
         if made is None:
             return None
         layer, notes = made

@@ -107,6 +107,19 @@ class Prompts:
         )
         return choice if ok and choice else None
 
+    def ask_height_px(self, name: str, default: float) -> float | None:
+        """How many texel widths of displacement height image ``name``'s full range spans."""
+        value, ok = QInputDialog.getDouble(
+            self.parent,
+            "Normals from a height image",
+            f"Displacement of {name}'s full range (black to white), in texels:",
+            default,
+            0.01,
+            10000.0,
+            2,
+        )
+        return value if ok else None
+
     def open_mesh(self, start: str = "") -> Path | None:
         path, _ = QFileDialog.getOpenFileName(self.parent, "Open mesh", start, MESH_FILTER)
         return Path(path) if path else None

@@ -37,6 +37,8 @@ class ScriptedPrompts(Prompts):
         self.image_path: Path | None = None
         #: the answer to "use this image as": picks from the labels offered (None: cancel)
         self.image_use: Callable[[list[str]], str | None] = lambda labels: None
+        #: the answer to a height image's displacement in texels (given the default)
+        self.height_px: Callable[[float], float | None] = lambda default: default
         self.recipe_path: Path | None = None
         self.folder: Path | None = None
         self.preset: str | None = None
@@ -84,6 +86,10 @@ class ScriptedPrompts(Prompts):
     def choose_image_use(self, name: str, choices: list[str]) -> str | None:
         self.asked.append(("image_use", f"{name}: " + " | ".join(choices)))
         return self.image_use(choices)
+
+    def ask_height_px(self, name: str, default: float) -> float | None:
+        self.asked.append(("height_px", f"{name}: {default:g}"))
+        return self.height_px(default)
 
     def open_mesh(self, start: str = "") -> Path | None:
         self.asked.append(("open_mesh", start))
