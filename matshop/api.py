@@ -25,7 +25,7 @@ from .io.material_io import LoadReport, load_material, save_material
 from .material import EditMaterial, Material, ProgressCallback
 from .ops import get_op
 from .ops.selection import resolve_params
-from .ops.spec import run_op
+from .ops.spec import OpTarget, run_op
 
 PathLike = str | os.PathLike[str]
 
@@ -125,8 +125,10 @@ class EditableMaterial:
         if missing:
             raise MatshopError(f"{op}: needs {', '.join(missing)}=... (another texture set)")
         optional = {name: values.pop(name) for name in spec.optional_inputs if name in values}
-        bound = spec.bind(values)
         names = resolve_params(self.schema, params, op)
+        # a separate source (a clone's) may have another size: the region is in its pixels
+        size = None if optional else self.size
+        bound = spec.bind(values, OpTarget(self.schema, names, size))
         for name in inputs:
             inputs[name], names = self._aligned(inputs[name], names, same_size=True)
         for name in optional:

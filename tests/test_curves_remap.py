@@ -18,8 +18,8 @@ import pytest
 from matshop.cli import main
 from matshop.io.project import load_project, save_project
 from matshop.layers import Document
-from matshop.layers.filters import filter_reach
 from matshop.material import Material, Schema
+from matshop.ops import get_op
 from matshop.ops.curves import curve_ranges, curves, levels
 
 CHESSBOARD = Path(__file__).resolve().parents[2] / "shared" / "data" / "chessboard"
@@ -84,8 +84,9 @@ def test_a_data_range_curves_layer_reads_the_whole_image_not_each_tile() -> None
     doc = Document.from_material(material, tile_size=32)
     layer = doc.new_filter_layer("curves", op_params={"points": S_CURVE})
     doc.insert_layer(layer)
-    assert filter_reach("curves", layer.op_params) is None  # global
-    assert filter_reach("curves", {**layer.op_params, "remap": "space"}) == 0  # pointwise
+    spec = get_op("curves")
+    assert spec.reach_of(layer.op_params) is None  # global
+    assert spec.reach_of({**layer.op_params, "remap": "space"}) == 0  # pointwise
     edit = material.to_edit()
     want = curves(edit.data, points=S_CURVE, schema=edit.schema)
     np.testing.assert_allclose(doc.flatten_edit(), want, atol=1e-6)

@@ -137,7 +137,11 @@ def close_group(
 
 def is_barrier(layer: Layer, doc: LayerStack) -> bool:
     """A visible filter reading a neighbourhood: it gets a checkpoint cache."""
-    return isinstance(layer, FilterLayer) and doc.shows(layer) and layer.reach(doc.layout) != 0
+    return (
+        isinstance(layer, FilterLayer)
+        and doc.shows(layer)
+        and layer.reach(doc.layout, doc.schema) != 0
+    )
 
 
 class Compositor:
@@ -156,7 +160,7 @@ class Compositor:
         """Tiles of a layer's output that change when ``tiles`` of its input change."""
         if not (isinstance(layer, FilterLayer) and self.doc.shows(layer)):
             return tiles
-        reach = layer.reach(self.doc.layout)
+        reach = layer.reach(self.doc.layout, self.doc.schema)
         if reach is None:
             return self.doc.layout.all_tiles() if tiles.any() else tiles
         return self.doc.layout.dilate(tiles, reach, layer.border)
@@ -217,7 +221,11 @@ class Compositor:
             return
         layout = self.doc.layout
         layer = self.doc.layers[count - 1]
-        if isinstance(layer, FilterLayer) and self.doc.shows(layer) and layer.reach(layout) is None:
+        if (
+            isinstance(layer, FilterLayer)
+            and self.doc.shows(layer)
+            and layer.reach(layout, self.doc.schema) is None
+        ):
             # a global filter costs the whole image whatever is asked: do it once
             cache.store(layout.bounds, self._compute(count, layout.bounds))
             return
@@ -311,7 +319,7 @@ class Compositor:
         layer = self.doc.layers[index]
         assert isinstance(layer, FilterLayer)
         layout, schema = self.doc.layout, self.doc.schema
-        reach = layer.reach(layout)
+        reach = layer.reach(layout, schema)
         if reach is None:
             below = self.composite(index, layout.bounds)
             filtered = layer.run(below, schema)

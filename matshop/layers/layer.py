@@ -35,9 +35,9 @@ import numpy as np
 from ..errors import InvalidValue
 from ..material import Schema
 from ..ops import get_op
-from ..ops.spec import run_op
+from ..ops.spec import OpTarget, Reach, run_op
 from .blend import get_blend_mode, mean_of, weighted_mean
-from .filters import bind_filter, filter_reach
+from .filters import bind_filter
 from .geometry import Rect, TileLayout
 from .tiles import TileGrid, freeze
 
@@ -71,8 +71,13 @@ class Layer:
         "parent",
     )
 
-    def validate(self, name: str, value: Any, schema: Schema) -> Any:
-        """Check a new property value; return it normalised (raises ValueError)."""
+    def validate(
+        self, name: str, value: Any, schema: Schema, size: tuple[int, int] | None = None
+    ) -> Any:
+        """Check a new property value; return it normalised (raises ValueError).
+
+        ``size`` (height, width) is the document's, for checks that need it.
+        """
         if name not in self.PROPERTIES:
             raise InvalidValue(f"{self.kind} layers have no property {name!r}")
         if name == "name":
@@ -242,7 +247,9 @@ class FillLayer(Layer):
     kind: ClassVar[str] = "fill"
     PROPERTIES: ClassVar[tuple[str, ...]] = (*Layer.PROPERTIES, "value", "source")
 
-    def validate(self, name: str, value: Any, schema: Schema) -> Any:
+    def validate(
+        self, name: str, value: Any, schema: Schema, size: tuple[int, int] | None = None
+    ) -> Any:
         if name == "value":
             vector = np.array(value, dtype=np.float32).reshape(-1)
             if vector.shape != (schema.edit_width,):
@@ -264,7 +271,7 @@ class FillLayer(Layer):
                 raise InvalidValue(f"a fill source must be float32 edit values, got {array.dtype}")
             # the layer must own an immutable copy: undo keeps it by reference
             return freeze(array.copy()) if array.flags.writeable else array
-        return super().validate(name, value, schema)
+        return super().validate(name, value, schema, size)
 
     def put(self, name: str, value: Any) -> None:
         super().put(name, value)
@@ -308,13 +315,22 @@ class FilterLayer(Layer):
     kind: ClassVar[str] = "filter"
     PROPERTIES: ClassVar[tuple[str, ...]] = (*Layer.PROPERTIES, "op_params", "filter")
 
-    def validate(self, name: str, value: Any, schema: Schema) -> Any:
+    def validate(
+        self, name: str, value: Any, schema: Schema, size: tuple[int, int] | None = None
+    ) -> Any:
+        """The op binds its settings against the document (schema, selected
+        parameters, size), so a layer that validates can always run; a new
+        selection is checked against the settings it keeps."""
+        target = OpTarget(schema, self.parameters, size)
         if name == "op_params":
-            return bind_filter(self.op, value)[1]
+            return bind_filter(self.op, value, target)[1]
         if name == "filter":  # (op, params) together: switching ops rebinds
             op, params = value
-            return (op, bind_filter(op, params)[1])
-        return super().validate(name, value, schema)
+            return (op, bind_filter(op, params, target)[1])
+        value = super().validate(name, value, schema, size)
+        if name == "parameters":
+            get_op(self.op).check(self.op_params, OpTarget(schema, value, size))
+        return value
 
     def written_parameters(self, schema: Schema) -> tuple[str, ...] | None:
         """Its parameters, plus the lobes a blur with ``keep_variance`` widens when it
@@ -343,15 +359,17 @@ class FilterLayer(Layer):
         """How the op treats the image edge (``wrap`` unless it says otherwise)."""
         return str(self.op_params.get("border", "wrap"))
 
-    def reach(self, layout: TileLayout) -> int | None:
+    def reach(self, layout: TileLayout, schema: Schema) -> Reach:
         """Texels of the composite below one output texel depends on; None: all of them.
 
-        "detail" needs the mean of the filtered image, and a reach that wraps
-        around the whole image is no cheaper than the image, so both are global.
+        The op declares its reach (:attr:`OpSpec.reach`). "detail" needs the mean
+        of the filtered image, and a reach that wraps around the whole image is
+        no cheaper than the image, so both are global.
         """
         if get_blend_mode(self.blend).uses_mean:
             return None
-        reach = filter_reach(self.op, self.op_params)
+        target = OpTarget(schema, self.parameters, (layout.height, layout.width))
+        reach = get_op(self.op).reach_of(self.op_params, target)
         if reach is not None and 2 * reach >= min(layout.height, layout.width):
             return None
         return reach
@@ -388,7 +406,9 @@ class GroupLayer(Layer):
 
     kind: ClassVar[str] = "group"
 
-    def validate(self, name: str, value: Any, schema: Schema) -> Any:
+    def validate(
+        self, name: str, value: Any, schema: Schema, size: tuple[int, int] | None = None
+    ) -> Any:
         if name == "blend" and get_blend_mode(value).name != "normal":
             raise InvalidValue("a group passes its layers through: its blend mode is normal")
-        return super().validate(name, value, schema)
+        return super().validate(name, value, schema, size)

@@ -45,7 +45,7 @@ def flatten_reference(doc: Document) -> np.ndarray:
             continue
         uses_mean = get_blend_mode(layer.blend).uses_mean
         if isinstance(layer, FilterLayer):
-            reach = layer.reach(doc.layout)
+            reach = layer.reach(doc.layout, schema)
             if reach:  # a neighbourhood op runs per tile (see filter_by_tile)
                 grown = _continued(image, reach, layer.border)
                 values = filter_by_tile(layer, schema, doc.layout, bounds, grown, reach)

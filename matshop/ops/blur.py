@@ -9,14 +9,15 @@ textures wrap around by padding with the opposite edge.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import cv2
 import numpy as np
 
 from ..material import Schema
 from .selection import Selection
-from .spec import BORDER, OpError, OpSpec, ParamSpec
+from .spec import BORDER, OpError, OpSpec, OpTarget, ParamSpec, Reach
 from .variance import lobe_parameters, lost_slope_covariance, widen_lobes
 
 #: OpenCV's kernel for float images spans +-4 sigma
@@ -160,13 +161,8 @@ def gaussian_blur(
     schema, params, mask : selection and blending, see :mod:`matshop.ops.selection`.
     """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op="blur")
-    if sigma_px > 4 * max(edit.shape[:2]):
-        raise OpError(
-            f"blur: sigma_px={sigma_px:g} is far larger than the {edit.shape[1]}x"
-            f"{edit.shape[0]} image"
-        )
-    if keep_variance and schema is not None:
-        lobe_parameters(schema, _KEEP)  # refuse before the costly part
+    values = {"sigma_px": sigma_px, "keep_variance": keep_variance}
+    check_blur(values, OpTarget(schema, params, edit.shape[:2]))  # before the costly part
     out = selection.put(edit, gaussian(selection.take(edit), sigma_px, border))
     if keep_variance:
         out = _keep_variance(edit, out, schema, selection, sigma_px, border)
@@ -193,6 +189,22 @@ def _keep_variance(
     frame = space.from_edit(np.ascontiguousarray(after[..., cut]))
     tangent = frame[..., 3:6] if frame.shape[-1] >= 6 else None
     return widen_lobes(after, schema, cov, tangent=tangent, mask=selection.mask, op=_KEEP)
+
+
+def check_blur(values: Mapping[str, Any], target: OpTarget) -> None:
+    """A sigma far beyond the image means nothing; keep_variance needs widenable lobes."""
+    sigma_px = values["sigma_px"]
+    if target.size is not None and sigma_px > 4 * max(target.size):
+        height, width = target.size
+        raise OpError(f"blur: sigma_px={sigma_px:g} is far larger than the {width}x{height} image")
+    if values["keep_variance"] and target.schema is not None:
+        lobe_parameters(target.schema, _KEEP)
+
+
+def blur_reach(values: Mapping[str, Any], target: OpTarget) -> Reach:
+    """The kernel's half-width: OpenCV truncates the Gaussian at 4 sigma."""
+    sigma_px = float(values["sigma_px"])
+    return 0 if sigma_px == 0 else kernel_radius_px(sigma_px)
 
 
 SPECS = (
@@ -223,5 +235,7 @@ SPECS = (
         ),
         linear=True,
         neighbourhood=True,
+        checks=(check_blur,),
+        reach=blur_reach,
     ),
 )

@@ -65,8 +65,9 @@ brute force.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import cv2
 import numpy as np
@@ -74,7 +75,7 @@ import numpy as np
 from ..material import Schema
 from . import _mvc
 from .selection import Selection
-from .spec import OpError, OpSpec, ParamSpec
+from .spec import WHOLE_IMAGE, OpError, OpSpec, OpTarget, ParamSpec, Reach
 
 BORDERS = ("wrap", "clamp", "error")
 
@@ -471,7 +472,13 @@ class CloneCoordinates:
         target, source, squeeze = _check_images(target, source, self.source_shape)
         dx, dy = _check_offset(offset)
         _check_border(border)
-        self._check_placement(target.shape, (dx, dy), border)
+        check_placement(
+            self.bbox,
+            lambda: np.concatenate([self.boundary, self.interior]),
+            target.shape[:2],
+            (dx, dy),
+            border,
+        )
         if out is None:
             result = np.empty_like(target)
         else:
@@ -502,42 +509,76 @@ class CloneCoordinates:
             return out
         return result[..., 0] if squeeze else result
 
-    def _check_placement(self, shape: tuple[int, ...], offset: tuple[int, int], border: str):
-        height, width = shape[:2]
-        x0, y0, x1, y1 = self.bbox
-        dx, dy = offset
-        if border == "wrap":
-            if x1 - x0 > width or y1 - y0 > height:
-                pixels = np.concatenate([self.boundary, self.interior]).astype(np.int64)
-                keys = (pixels[:, 1] + dy) % height * width + (pixels[:, 0] + dx) % width
-                if np.unique(keys).size < np.unique(pixels[:, 1] << 32 | pixels[:, 0]).size:
-                    raise CloneError(
-                        f"clone: the region ({x1 - x0}x{y1 - y0} px) wraps onto itself in the "
-                        f"{width}x{height} target"
-                    )
-            return
-        if x0 + dx >= 0 and y0 + dy >= 0 and x1 + dx <= width and y1 + dy <= height:
-            return
-        if border == "error":
-            raise CloneError(
-                f"clone: the region (x {x0 + dx}..{x1 + dx - 1}, y {y0 + dy}..{y1 + dy - 1} "
-                f"in the target) leaves the {width}x{height} target (border='error')"
-            )
-        pixels = np.concatenate([self.boundary, self.interior]) + np.array([dx, dy])
-        hit = (
-            (pixels[:, 0] >= 0)
-            & (pixels[:, 0] < width)
-            & (pixels[:, 1] >= 0)
-            & (pixels[:, 1] < height)
-        )
-        if not hit.any():
-            raise CloneError(
-                f"clone: the region lies entirely outside the {width}x{height} target "
-                f"at offset ({dx}, {dy})"
-            )
-
 
 # ---------------------------------------------------------------- checks
+
+
+def check_placement(
+    bbox: tuple[int, int, int, int],
+    pixels: Callable[[], np.ndarray],
+    shape: tuple[int, ...],
+    offset: tuple[int, int],
+    border: str,
+) -> None:
+    """Refuse a region (``bbox`` x0, y0, x1, y1 and its ``(N, 2)`` (x, y) ``pixels``,
+    asked for only when the box does not settle it) that cannot land at ``offset``."""
+    height, width = shape[:2]
+    x0, y0, x1, y1 = bbox
+    dx, dy = offset
+    if border == "wrap":
+        if x1 - x0 > width or y1 - y0 > height:
+            texels = pixels().astype(np.int64)
+            keys = (texels[:, 1] + dy) % height * width + (texels[:, 0] + dx) % width
+            if np.unique(keys).size < np.unique(texels[:, 1] << 32 | texels[:, 0]).size:
+                raise CloneError(
+                    f"clone: the region ({x1 - x0}x{y1 - y0} px) wraps onto itself in the "
+                    f"{width}x{height} target"
+                )
+        return
+    if x0 + dx >= 0 and y0 + dy >= 0 and x1 + dx <= width and y1 + dy <= height:
+        return
+    if border == "error":
+        raise CloneError(
+            f"clone: the region (x {x0 + dx}..{x1 + dx - 1}, y {y0 + dy}..{y1 + dy - 1} "
+            f"in the target) leaves the {width}x{height} target (border='error')"
+        )
+    texels = pixels() + np.array([dx, dy])
+    hit = (
+        (texels[:, 0] >= 0) & (texels[:, 0] < width) & (texels[:, 1] >= 0) & (texels[:, 1] < height)
+    )
+    if not hit.any():
+        raise CloneError(
+            f"clone: the region lies entirely outside the {width}x{height} target "
+            f"at offset ({dx}, {dy})"
+        )
+
+
+def check_region(values: Mapping[str, Any], target: OpTarget) -> None:
+    """With the image size known: the region is a mask of that size or a polygon
+    covering some of it, and lands (partly) in it at ``offset``.
+
+    A precomputed :class:`CloneCoordinates` was checked when it was built.
+    """
+    region = values["region"]
+    if target.size is None or isinstance(region, CloneCoordinates):
+        return
+    mask = region_mask(region, target.size)
+    rows, cols = np.nonzero(mask)
+    if rows.size == 0:
+        raise CloneError("clone: the region is empty (no pixel selected)")
+    bbox = (int(cols.min()), int(rows.min()), int(cols.max()) + 1, int(rows.max()) + 1)
+    check_placement(
+        bbox,
+        lambda: np.stack([cols, rows], axis=1),
+        target.size,
+        values["offset"],
+        values["border"],
+    )
+
+
+def clone_reach(values: Mapping[str, Any], target: OpTarget) -> Reach:
+    """Every texel inside the region reads the whole boundary: the whole image."""
+    return WHOLE_IMAGE
 
 
 def _check_border(border: str) -> None:
@@ -684,5 +725,7 @@ SPECS = (
         linear=True,
         neighbourhood=True,
         optional_inputs=("source",),
+        checks=(check_region,),
+        reach=clone_reach,
     ),
 )

@@ -14,14 +14,15 @@ lookup table: one fused pass per texel.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
 from ..material import Schema
 from ._kernels import line_tables, lut_apply
 from .selection import Selection
-from .spec import OpSpec, ParamSpec
+from .spec import WHOLE_IMAGE, OpError, OpSpec, OpTarget, ParamSpec, Reach
 from .tone_range import CLIP_PERCENT, REMAPS, Remap, ToneRange, tail_slope, tone_ranges
 
 #: LUT entries over [0, 1]; the PCHIP's linear-interpolation error at this
@@ -177,10 +178,7 @@ def levels(
 
     ``remap`` chooses the range (:mod:`.tone_range`).
     """
-    from .spec import OpError
-
-    if in_white <= in_black:
-        raise OpError(f"levels: in_white ({in_white:g}) must exceed in_black ({in_black:g})")
+    check_input_points({"in_black": in_black, "in_white": in_white}, OpTarget())
     lut = levels_lut(in_black, in_white, gamma, out_black, out_white)
     return apply_lut(
         edit,
@@ -192,6 +190,20 @@ def levels(
         remap=remap,
         clip_percent=clip_percent,
     )
+
+
+def check_input_points(values: Mapping[str, Any], target: OpTarget) -> None:
+    """Levels maps [in_black, in_white] onto the output range: it must not be empty."""
+    if values["in_white"] <= values["in_black"]:
+        raise OpError(
+            f"levels: in_white ({values['in_white']:g}) must exceed in_black "
+            f"({values['in_black']:g})"
+        )
+
+
+def tone_reach(values: Mapping[str, Any], target: OpTarget) -> Reach:
+    """remap="data" reads the value range of the whole image; "space" is pointwise."""
+    return 0 if values["remap"] == "space" else WHOLE_IMAGE
 
 
 _UNIT = (0.0, 1.0)
@@ -237,6 +249,7 @@ CURVES_SPEC = OpSpec(
         *REMAP_PARAMS,
     ),
     linear=False,
+    reach=tone_reach,
 )
 
 LEVELS_SPEC = OpSpec(
@@ -270,6 +283,8 @@ LEVELS_SPEC = OpSpec(
         *REMAP_PARAMS,
     ),
     linear=False,
+    checks=(check_input_points,),
+    reach=tone_reach,
 )
 
 SPECS = (CURVES_SPEC, LEVELS_SPEC)

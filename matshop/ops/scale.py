@@ -7,14 +7,15 @@ narrows (s < 1) or widens (s > 1) a microfacet lobe.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
 from ..material import Schema
 from ._kernels import scale_lerp
 from .selection import Selection
-from .spec import OpError, OpSpec, ParamSpec
+from .spec import OpError, OpSpec, OpTarget, ParamSpec
 
 
 def scale(
@@ -54,11 +55,7 @@ def scale(
     """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op="scale")
     if channel_factors is not None:
-        if len(channel_factors) != selection.width:
-            raise OpError(
-                f"scale: channel_factors has {len(channel_factors)} values, the selection "
-                f"has {selection.width} edit channels"
-            )
+        _check_factor_count(channel_factors, selection.width)
         block = selection.take(edit)
         gains = np.float32(factor) * np.asarray(channel_factors, dtype=np.float32)
         return selection.put(edit, np.multiply(block, gains, dtype=np.float32))
@@ -70,6 +67,21 @@ def scale(
         )
     block = selection.take(edit)
     return selection.put(edit, np.multiply(block, np.float32(factor), dtype=np.float32))
+
+
+def _check_factor_count(channel_factors: Sequence[float], width: int) -> None:
+    if len(channel_factors) != width:
+        raise OpError(
+            f"scale: channel_factors has {len(channel_factors)} values, the selection "
+            f"has {width} edit channels"
+        )
+
+
+def check_scale(values: Mapping[str, Any], target: OpTarget) -> None:
+    """One channel factor per selected edit channel (when the selection is known)."""
+    width = target.selected_width("scale")
+    if values["channel_factors"] is not None and width is not None:
+        _check_factor_count(values["channel_factors"], width)
 
 
 SPECS = (
@@ -91,5 +103,6 @@ SPECS = (
             ),
         ),
         linear=True,
+        checks=(check_scale,),
     ),
 )

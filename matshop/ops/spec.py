@@ -3,9 +3,12 @@
 Each op module declares one :class:`OpSpec`: its name, what it does, whether
 it is linear in the edit values, and every parameter with unit, default,
 hard range (validation) and UI range (sliders), in the manner of GEGL's
-``value_range``/``ui_range``. The CLI, the Python API, filter layers and tool
-panels all read these descriptions, so adding an op is one module and one
-registry entry.
+``value_range``/``ui_range``; the checks that involve several parameters, or
+the material the op will run on (:class:`OpTarget`); and its *reach*, how many
+texels around an output texel it reads (what a tiled filter layer needs as
+margin). :meth:`OpSpec.bind` runs every check, so whatever the CLI, the Python
+API, filter layers, recipes and tool panels accept can run. Adding an op is
+one module and one registry entry.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..errors import MatshopError
+from ..errors import InvalidValue
 
 ParamKind = Literal[
     "float", "int", "bool", "choice", "points", "offset", "path", "region", "floats"
@@ -29,12 +32,59 @@ ParamKind = Literal[
 MAX_OFFSET_PX = 1 << 20
 
 
-class OpError(MatshopError, ValueError):
+class OpError(InvalidValue):
     """A bad op name or parameter value: one line naming the op and the parameter.
 
     Also a ValueError: the kernels' own argument checks raise it, and code
     that calls them directly keeps catching ValueError.
     """
+
+
+#: what :attr:`OpSpec.reach` returns for an op whose every output texel may
+#: depend on every input texel (a tiled filter layer recomputes the whole image)
+WHOLE_IMAGE = None
+
+#: texels of context, or :data:`WHOLE_IMAGE`
+Reach = int | None
+
+
+@dataclass(frozen=True)
+class OpTarget:
+    """What an op will run on, as far as it is known before it runs.
+
+    Checks that need more than the parameters (a count per selected edit
+    channel, a sigma against the image size) use what is given and skip what
+    is not: the Python API knows everything at bind time, a filter layer its
+    document, a recipe nothing until it meets a material (then it binds again).
+    """
+
+    #: the material's schema (None: unknown)
+    schema: Any = None
+    #: the selected parameter names (None: all of the schema)
+    params: Sequence[str] | str | None = None
+    #: (height, width) in texels (None: unknown)
+    size: tuple[int, int] | None = None
+
+    def selected_width(self, op: str) -> int | None:
+        """Edit channels the selection covers (None without a schema); ``op`` names
+        the op in the error about an unknown parameter."""
+        if self.schema is None:
+            return None
+        from .selection import resolve_params
+
+        names = resolve_params(self.schema, self.params, op)
+        return sum(self.schema[name].edit_channels for name in names)
+
+
+#: a check of bound values against each other and the target; raises OpError
+Check = Callable[[Mapping[str, Any], OpTarget], None]
+#: an op's reach for bound values on a target
+ReachRule = Callable[[Mapping[str, Any], OpTarget], Reach]
+
+
+def pointwise(values: Mapping[str, Any], target: OpTarget) -> Reach:
+    """The reach of an op whose output texel reads only the same input texel."""
+    return 0
 
 
 @dataclass(frozen=True)
@@ -245,6 +295,20 @@ class OpSpec:
     inputs: tuple[str, ...] = field(default_factory=tuple)
     #: like ``inputs`` but optional, passed by keyword (e.g. a clone's source)
     optional_inputs: tuple[str, ...] = field(default_factory=tuple)
+    #: costly per texel (a lattice): front ends compute large areas of it off
+    #: the interactive thread (:meth:`Document.stale_slow_filters`)
+    slow: bool = False
+    #: checks across parameters and against the target, run by :meth:`bind`
+    checks: tuple[Check, ...] = ()
+    #: texels of context one output texel reads (:data:`WHOLE_IMAGE`: all of them).
+    #: Required for neighbourhood ops; pointwise ops read 0
+    reach: ReachRule | None = None
+
+    def __post_init__(self) -> None:
+        if self.reach is None:
+            if self.neighbourhood:
+                raise TypeError(f"op {self.name!r} reads a neighbourhood: declare its reach")
+            object.__setattr__(self, "reach", pointwise)
 
     @property
     def all_inputs(self) -> tuple[str, ...]:
@@ -257,8 +321,13 @@ class OpSpec:
         known = ", ".join(p.name for p in self.params)
         raise OpError(f"{self.name}: unknown parameter {name!r} (has: {known})")
 
-    def bind(self, values: Mapping[str, Any]) -> dict[str, Any]:
-        """Defaults filled in, every value validated: ready to call ``function``."""
+    def bind(self, values: Mapping[str, Any], target: OpTarget | None = None) -> dict[str, Any]:
+        """Defaults filled in, every value validated, alone, against the others and
+        against ``target`` as far as it is known: ready to call ``function``.
+
+        Raises :class:`OpError` (an :class:`~matshop.errors.InvalidValue`);
+        nothing that binds fails for its parameters when it runs.
+        """
         bound = {}
         for key in values:
             self.param(key)  # unknown names fail loudly
@@ -269,7 +338,18 @@ class OpSpec:
                 raise OpError(f"{self.name}: parameter {spec.name!r} is required")
             else:
                 bound[spec.name] = spec.default
+        self.check(bound, target)
         return bound
+
+    def check(self, bound: Mapping[str, Any], target: OpTarget | None = None) -> None:
+        """Run the op's cross-parameter and target checks on already typed values."""
+        for check in self.checks:
+            check(bound, target or OpTarget())
+
+    def reach_of(self, bound: Mapping[str, Any], target: OpTarget | None = None) -> Reach:
+        """Texels of context the op reads around each output texel (None: the whole image)."""
+        assert self.reach is not None  # set in __post_init__
+        return self.reach(bound, target or OpTarget())
 
     def parse_args(self, pairs: Sequence[str]) -> dict[str, Any]:
         """``["sigma_px=4", "border=clamp"]`` -> typed, unvalidated values.
