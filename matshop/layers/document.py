@@ -568,8 +568,10 @@ class Document:
                 if missing.any():
                     stale.append(layer)
             elif reach > 0 and get_op(layer.op).slow:
-                side = self.layout.tile_size + 2 * reach
-                if int(missing.sum()) * side * side > SLOW_FILTER_TEXELS:
+                blocks = layer.block_tiles(self.layout, reach)
+                side = blocks * self.layout.tile_size  # each block read with its margin
+                count = int(self.layout.blocks_of(missing, blocks).sum()) / blocks**2
+                if count * (side + 2 * reach) ** 2 > SLOW_FILTER_TEXELS:
                     stale.append(layer)
         return stale
 
