@@ -14,7 +14,7 @@ import numpy as np
 
 from ..material import Schema
 from ._kernels import scale_lerp
-from .selection import Selection
+from .selection import Selection, selected_width
 from .spec import OpError, OpSpec, OpTarget, ParamSpec
 
 
@@ -79,8 +79,8 @@ def _check_factor_count(channel_factors: Sequence[float], width: int) -> None:
 
 def check_scale(values: Mapping[str, Any], target: OpTarget) -> None:
     """One channel factor per selected edit channel (when the selection is known)."""
-    width = target.selected_width("scale")
-    if values["channel_factors"] is not None and width is not None:
+    if values["channel_factors"] is not None and target.schema is not None:
+        width = selected_width(target.schema, target.params, "scale")
         _check_factor_count(values["channel_factors"], width)
 
 

@@ -94,6 +94,11 @@ def resolve_params(schema: Schema, params: Sequence[str] | str | None, op: str) 
     return names
 
 
+def selected_width(schema: Schema, params: Sequence[str] | str | None, op: str) -> int:
+    """Edit channels a selection covers (before any array exists: checks at bind time)."""
+    return sum(schema[name].edit_channels for name in resolve_params(schema, params, op))
+
+
 class Selection:
     """The selected channels of an edit array, their groups, and the mask."""
 

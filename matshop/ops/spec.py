@@ -65,16 +65,6 @@ class OpTarget:
     #: (height, width) in texels (None: unknown)
     size: tuple[int, int] | None = None
 
-    def selected_width(self, op: str) -> int | None:
-        """Edit channels the selection covers (None without a schema); ``op`` names
-        the op in the error about an unknown parameter."""
-        if self.schema is None:
-            return None
-        from .selection import resolve_params
-
-        names = resolve_params(self.schema, self.params, op)
-        return sum(self.schema[name].edit_channels for name in names)
-
 
 #: a check of bound values against each other and the target; raises OpError
 Check = Callable[[Mapping[str, Any], OpTarget], None]
