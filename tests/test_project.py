@@ -424,7 +424,7 @@ CORRUPT: dict[str, tuple[Callable[[bytes, Path], bytes], str]] = {
     ),
     "unknown parameter": (
         _with_manifest(lambda m: m["layers"][1].update(parameters=["glossiness"])),
-        "not distinct parameters of the schema",
+        "no parameter(s) ['glossiness'] in this material",
     ),
     "parent not an id": (
         _with_manifest(lambda m: m["layers"][1].update(parent="group")),

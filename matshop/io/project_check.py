@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidValue, MatshopError
-from ..layers import BLEND_MODES
 from ..layers.geometry import TileKey, TileLayout
+from ..layers.properties import check_property
 from ..material import Parameter, Schema
 from ..ops import get_op
 from ..spaces import get_space
@@ -168,12 +168,6 @@ def _int(value: Any, where: str, lo: int, hi: int) -> int:
         raise FormatProblem(f"{where} must be a whole number, got {_type_name(value)}")
     if not lo <= value <= hi:
         raise FormatProblem(f"{where}={value} is outside [{lo}, {hi}]")
-    return value
-
-
-def _bool(value: Any, where: str) -> bool:
-    if not isinstance(value, bool):
-        raise FormatProblem(f"{where} must be true or false, got {_type_name(value)}")
     return value
 
 
@@ -344,24 +338,14 @@ def _parse_layer(
     if kind not in LAYER_KINDS:
         known = ", ".join(LAYER_KINDS)
         raise FormatProblem(f"{where}: unknown layer kind {kind[:40]!r} (known: {known})")
-    blend = _str(_get(entry, "blend", where), f"{where} blend")
-    if blend not in BLEND_MODES:
-        known = ", ".join(BLEND_MODES)
-        raise FormatProblem(f"{where}: unknown blend mode {blend[:40]!r} (known: {known})")
     props = {
-        "name": _str(_get(entry, "name", where), f"{where} name"),
-        "visible": _bool(_get(entry, "visible", where), f"{where} visible"),
-        "opacity": _number(_get(entry, "opacity", where), f"{where} opacity"),
-        "blend": blend,
-        "parameters": _parse_parameters(_get(entry, "parameters", where), schema, where),
-        "mask_inverted": _bool(_get(entry, "mask_inverted", where), f"{where} mask_inverted"),
+        name: _property(kind, name, _get(entry, name, where), schema, where)
+        for name in ("name", "visible", "opacity", "blend", "parameters", "mask_inverted")
     }
-    if not 0.0 <= props["opacity"] <= 1.0:
-        raise FormatProblem(f"{where} opacity={props['opacity']:g} is outside [0, 1]")
     parent = entry.get("parent")
     if parent is not None:  # may name a group no longer in the stack, as in the document
         props["parent"] = _int(parent, f"{where} parent", 1, MAX_LAYER_ID)
-    if kind == "group" and blend != "normal":
+    if kind == "group" and props["blend"] != "normal":
         raise FormatProblem(f"{where}: a group passes its layers through, its blend is normal")
     spec = LayerSpec(
         kind, _int(_get(entry, "id", where), f"{where} id", 1, MAX_LAYER_ID), props, where
@@ -386,19 +370,19 @@ def _parse_layer(
     return spec
 
 
-def _parse_parameters(value: Any, schema: Schema, where: str) -> tuple[str, ...] | None:
-    if value is None:
-        return None
-    names = [
-        _str(v, f"{where} parameters") for v in _list(value, f"{where} parameters", MAX_PARAMETERS)
-    ]
-    unknown = [n[:40] for n in names if n not in schema]
-    if unknown or not names or len(set(names)) != len(names):
-        raise FormatProblem(
-            f"{where}: parameters {names[:8]} are not distinct parameters of the schema "
-            f"({', '.join(schema.names)})"
-        )
-    return tuple(n for n in schema.names if n in set(names))
+def _property(kind: str, name: str, value: Any, schema: Schema, where: str) -> Any:
+    """A stored layer property, checked by the layer model's own table
+    (:mod:`matshop.layers.properties`) after the file's own limits."""
+    if isinstance(value, str):
+        value = _str(value, f"{where} {name}")
+    elif isinstance(value, list):
+        value = [
+            _str(v, f"{where} {name}") for v in _list(value, f"{where} {name}", MAX_PARAMETERS)
+        ]
+    try:
+        return check_property(kind, name, value, schema)
+    except InvalidValue as exc:
+        raise FormatProblem(f"{where}: {exc.problem}") from None
 
 
 def _parse_grid(

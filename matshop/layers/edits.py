@@ -21,26 +21,11 @@ import numpy as np
 
 from .geometry import TileKey
 from .layer import Layer
+from .properties import PROPERTIES
 from .tiles import TileGrid
 
 if TYPE_CHECKING:
     from .document import Document, Target
-
-#: Properties whose consecutive changes merge into one history step (sliders).
-MERGEABLE = frozenset({"opacity", "op_params", "value"})
-
-_PROPERTY_LABELS = {
-    "name": "Rename layer",
-    "visible": "Layer visibility",
-    "opacity": "Layer opacity",
-    "blend": "Blend mode",
-    "parameters": "Layer parameters",
-    "mask_inverted": "Invert mask",
-    "op_params": "Filter settings",
-    "filter": "Change filter",
-    "value": "Fill value",
-    "source": "Fill texture",
-}
 
 
 class Edit:
@@ -130,7 +115,7 @@ class SetProperty(Edit):
     mergeable : bool, optional
         Whether a following change of the same property of the same layer
         merges into this step. Defaults to True for slider-like properties
-        (:data:`MERGEABLE`). A drag that ends should push its next change with
+        (:attr:`LayerProperty.mergeable`). A drag that ends should push its next change with
         ``History.push(..., merge=False)`` (or call ``History.seal()``).
     """
 
@@ -141,8 +126,9 @@ class SetProperty(Edit):
         self.name = name
         self.value = value
         self.old: Any = None
-        self.mergeable = name in MERGEABLE if mergeable is None else mergeable
-        self.label = _PROPERTY_LABELS.get(name, f"Set {name}")
+        prop = PROPERTIES.get(name)
+        self.mergeable = (prop is not None and prop.mergeable) if mergeable is None else mergeable
+        self.label = prop.label if prop is not None else f"Set {name}"
 
     def apply(self, doc: Document) -> None:
         self.old = doc.set_property(self.layer_id, self.name, self.value)

@@ -39,6 +39,7 @@ from ..ops.spec import OpTarget, Reach, run_op
 from .blend import get_blend_mode, mean_of, weighted_mean
 from .filters import bind_filter
 from .geometry import Rect, TileLayout
+from .properties import check_property, properties_of
 from .tiles import TileGrid, freeze
 
 #: a slow filter's squares span at least this many texels and reaches (FilterLayer.block_tiles)
@@ -64,48 +65,21 @@ class Layer:
     parent: int | None = None
 
     kind: ClassVar[str] = "layer"
-    #: properties :meth:`Document.set_property` may change
-    PROPERTIES: ClassVar[tuple[str, ...]] = (
-        "name",
-        "visible",
-        "opacity",
-        "blend",
-        "parameters",
-        "mask_inverted",
-        "parent",
-    )
+    #: properties :meth:`Document.set_property` may change (:mod:`.properties`)
+    PROPERTIES: ClassVar[tuple[str, ...]] = ()
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.PROPERTIES = properties_of(cls.kind)
 
     def validate(
         self, name: str, value: Any, schema: Schema, size: tuple[int, int] | None = None
     ) -> Any:
-        """Check a new property value; return it normalised (raises ValueError).
+        """Check a new property value; return it normalised (raises InvalidValue).
 
         ``size`` (height, width) is the document's, for checks that need it.
         """
-        if name not in self.PROPERTIES:
-            raise InvalidValue(f"{self.kind} layers have no property {name!r}")
-        if name == "name":
-            return str(value)
-        if name in ("visible", "mask_inverted"):
-            if not isinstance(value, bool | np.bool_):
-                raise InvalidValue(f"{name} must be true or false, got {value!r}")
-            return bool(value)
-        if name == "opacity":
-            opacity = float(value)
-            if not 0.0 <= opacity <= 1.0:
-                raise InvalidValue(f"opacity must lie in [0, 1], got {opacity:g}")
-            return opacity
-        if name == "blend":
-            return get_blend_mode(value).name
-        if name == "parameters":
-            return _normalise_parameters(value, schema)
-        if name == "parent":  # the document checks that it names a group
-            if value is None:
-                return None
-            if isinstance(value, bool) or not isinstance(value, int | np.integer):
-                raise InvalidValue(f"parent must be a group layer id or None, got {value!r}")
-            return int(value)
-        raise AssertionError(name)  # pragma: no cover - PROPERTIES and branches agree
+        return check_property(self.kind, name, value, schema)
 
     def written_parameters(self, schema: Schema) -> tuple[str, ...] | None:
         """The parameters the compositor takes from this layer (None: all)."""
@@ -163,20 +137,6 @@ class Layer:
             "mask_inverted": self.mask_inverted,
             "parent": self.parent,
         }
-
-
-def _normalise_parameters(value: Any, schema: Schema) -> tuple[str, ...] | None:
-    if value is None:
-        return None
-    names = [value] if isinstance(value, str) else list(value)
-    unknown = [n for n in names if n not in schema]
-    if unknown:
-        raise InvalidValue(f"no parameter(s) {unknown} in this material (has: {schema.names})")
-    if not names:
-        raise InvalidValue("a layer must affect at least one parameter (None means all)")
-    chosen = set(names)
-    ordered = tuple(n for n in schema.names if n in chosen)
-    return None if len(ordered) == len(schema.names) else ordered
 
 
 @dataclass(eq=False)
@@ -249,7 +209,6 @@ class FillLayer(Layer):
     _source_mean: np.ndarray | None = field(default=None, repr=False)
 
     kind: ClassVar[str] = "fill"
-    PROPERTIES: ClassVar[tuple[str, ...]] = (*Layer.PROPERTIES, "value", "source")
 
     def validate(
         self, name: str, value: Any, schema: Schema, size: tuple[int, int] | None = None
@@ -317,7 +276,6 @@ class FilterLayer(Layer):
     op_params: dict[str, Any] = field(default_factory=dict)
 
     kind: ClassVar[str] = "filter"
-    PROPERTIES: ClassVar[tuple[str, ...]] = (*Layer.PROPERTIES, "op_params", "filter")
 
     def validate(
         self, name: str, value: Any, schema: Schema, size: tuple[int, int] | None = None

@@ -77,6 +77,16 @@ def pointwise(values: Mapping[str, Any], target: OpTarget) -> Reach:
     return 0
 
 
+def parse_bool(text: str) -> bool:
+    """The one spelling of true and false on the command line (ValueError otherwise)."""
+    lowered = text.strip().lower()
+    if lowered in ("1", "true", "yes", "on"):
+        return True
+    if lowered in ("0", "false", "no", "off"):
+        return False
+    raise ValueError(f"not true or false: {text!r}")
+
+
 @dataclass(frozen=True)
 class ParamSpec:
     """One parameter of an op.
@@ -108,12 +118,7 @@ class ParamSpec:
             if self.kind == "int":
                 return int(text)
             if self.kind == "bool":
-                lowered = text.strip().lower()
-                if lowered in ("1", "true", "yes", "on"):
-                    return True
-                if lowered in ("0", "false", "no", "off"):
-                    return False
-                raise ValueError(text)
+                return parse_bool(text)
             if self.kind == "points":  # "0,0;0.5,0.7;1,1"
                 return [tuple(float(v) for v in pair.split(",")) for pair in text.split(";")]
             if self.kind == "offset":  # "dx,dy"

@@ -12,6 +12,8 @@ from ...errors import MatshopError, naming
 from ...io.project import save_project
 from ...layers import AddLayer, Document, History, RemoveLayer, SetMask, SetProperty
 from ...layers.layer import PaintLayer
+from ...layers.properties import PROPERTIES
+from ...ops.spec import parse_bool
 from ...paint import Swatch
 from ..project import about_project, find_layer, names, open_project
 
@@ -298,15 +300,8 @@ _GENERATOR_OPTIONS = {
     "level": float,
     "contrast": float,
     "blur_px": float,
-    "invert": lambda text: _boolean("invert", text),
+    "invert": parse_bool,
 }
-
-
-def _boolean(name: str, text: str) -> bool:
-    value = text.strip().lower()
-    if value not in ("true", "false", "1", "0", "yes", "no"):
-        raise MatshopError(f"--mask-generator {name} must be true or false, got {text!r}")
-    return value in ("true", "1", "yes")
 
 
 def _generated_mask(doc: Document, words: Sequence[str], project: Path) -> np.ndarray:
@@ -331,7 +326,8 @@ def _generated_mask(doc: Document, words: Sequence[str], project: Path) -> np.nd
         try:
             options[key] = _GENERATOR_OPTIONS[key](text)
         except ValueError:
-            raise MatshopError(f"--mask-generator {key} must be a number, got {text!r}") from None
+            kind = "true or false" if key == "invert" else "a number"
+            raise MatshopError(f"--mask-generator {key} must be {kind}, got {text!r}") from None
         if key != "invert" and not np.isfinite(options[key]):
             raise MatshopError(f"--mask-generator {key} must be finite, got {text!r}")
     normals = doc.physical()["normal"][..., :3]
@@ -364,21 +360,6 @@ def list_layers(project: Path) -> int:
     return 0
 
 
-def _property_value(name: str, text: str) -> object:
-    if name in ("visible", "mask_inverted"):
-        if text.lower() not in ("true", "false", "1", "0", "yes", "no"):
-            raise MatshopError(f"{name} must be true or false, got {text!r}")
-        return text.lower() in ("true", "1", "yes")
-    if name == "opacity":
-        try:
-            return float(text)
-        except ValueError:
-            raise MatshopError(f"opacity must be a number, got {text!r}") from None
-    if name == "parameters":
-        return None if text.lower() in ("all", "") else names(text)
-    return text
-
-
 @about_project
 def cmd_layer_set(args: argparse.Namespace) -> int:
     doc, history, settings = open_project(args.project)
@@ -391,9 +372,8 @@ def cmd_layer_set(args: argparse.Namespace) -> int:
         if name not in layer.PROPERTIES:
             known = ", ".join(layer.PROPERTIES)
             raise MatshopError(f"{layer.kind} layers have no property {name!r} (has: {known})")
-        value = _property_value(name, text.strip())
         with naming(what=f"layer {layer.name!r}"):
-            history.push(SetProperty(layer.id, name, value))
+            history.push(SetProperty(layer.id, name, PROPERTIES[name].from_text(text)))
     save_project(doc, args.project, settings=settings)
     print(f"changed layer {layer.id} {layer.name!r}")
     return 0
