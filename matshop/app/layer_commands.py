@@ -20,12 +20,9 @@ from ..layers import (
     AddLayer,
     CompoundEdit,
     Edit,
-    FillLayer,
-    FilterLayer,
     GroupLayer,
     Layer,
     MoveLayer,
-    PaintLayer,
     RemoveLayer,
     SetMask,
     SetProperty,
@@ -332,28 +329,9 @@ def _same(a: Any, b: Any) -> bool:
 
 def _duplicate(doc, layer: Layer) -> Layer:
     """A new layer (new id) with ``layer``'s properties and content; not in the stack yet."""
-    props = {
-        "visible": layer.visible,
-        "opacity": layer.opacity,
-        "blend": layer.blend,
-        "parameters": layer.parameters,
-        "mask_inverted": layer.mask_inverted,
-        "parent": layer.parent,
-    }
-    name = f"{layer.name} copy"
-    if isinstance(layer, PaintLayer):
-        twin: Layer = doc.new_paint_layer(name, **props)
-        assert layer.pixels is not None
-        twin.pixels = layer.pixels.copy()  # type: ignore[attr-defined]
-    elif isinstance(layer, FillLayer):
-        content = {"value": layer.value} if layer.source is None else {"source": layer.source}
-        twin = doc.new_fill_layer(name, **content, **props)
-    elif isinstance(layer, FilterLayer):
-        twin = doc.new_filter_layer(layer.op, name, op_params=dict(layer.op_params), **props)
-    elif isinstance(layer, GroupLayer):
+    if isinstance(layer, GroupLayer):
         raise InvalidValue("duplicate a group's layers one by one (groups copy no members)")
-    else:  # pragma: no cover - new kinds must be taught here
-        raise InvalidValue(f"cannot duplicate a {layer.kind} layer")
+    twin = doc.new_layer(layer.kind, f"{layer.name} copy", **layer.state())
     if layer.mask is not None:
         twin.mask = layer.mask.copy()  # the new layer is not in the document yet
     return twin

@@ -308,26 +308,21 @@ def _grid(doc: Document, ref: GridSpec, flat: np.ndarray) -> TileGrid:
 def _layer(doc: Document, spec: LayerSpec, arrays: dict[str, np.ndarray]) -> Layer:
     props = dict(spec.props)
     name = props.pop("name")
-    layer: Layer
     if spec.kind == "paint":
-        layer = doc.new_paint_layer(name, **props)
         assert spec.pixels is not None
-        layer.pixels = _grid(doc, spec.pixels, arrays[spec.pixels.member])  # type: ignore[attr-defined]
+        props["pixels"] = _grid(doc, spec.pixels, arrays[spec.pixels.member])
+    elif spec.kind == "fill" and spec.source is not None:
+        source = arrays[spec.source.member].reshape(spec.source.shape)
+        props["source"] = source.astype(np.float32, copy=False)
     elif spec.kind == "fill":
-        if spec.source is not None:
-            source = arrays[spec.source.member].reshape(spec.source.shape)
-            layer = doc.new_fill_layer(name, source=source.astype(np.float32, copy=False), **props)
-            if spec.value is not None:  # a fill may keep a value beside its texture
-                layer.put("value", layer.validate("value", spec.value, doc.schema))
-        else:
-            layer = doc.new_fill_layer(name, value=spec.value, **props)
+        props["value"] = spec.value
     elif spec.kind == "filter":
-        layer = doc.new_filter_layer(spec.op, name, op_params=spec.op_params, **props)
-    else:
-        layer = doc.new_group_layer(name, **props)
+        props.update(op=spec.op, op_params=spec.op_params)
+    layer = doc.new_layer(spec.kind, name, **props)
+    if spec.kind == "fill" and spec.source is not None and spec.value is not None:
+        layer.put("value", layer.validate("value", spec.value, doc.schema))  # kept beside it
     if spec.mask is not None:
         layer.mask = _grid(doc, spec.mask, arrays[spec.mask.member])
-    layer.put("name", name)  # the factories replace an empty name with a default one
     layer.id = spec.id
     return layer
 

@@ -37,6 +37,14 @@ from .tiles import TileGrid, freeze
 #: interactive thread: ~75 ms of bilateral at sigma 4 (measured 4-5 us a texel)
 SLOW_FILTER_TEXELS = 1 << 14
 
+#: What each layer kind is made of besides its properties (Document.new_layer)
+_CONTENT: dict[str, tuple[str, ...]] = {
+    "paint": ("pixels",),
+    "fill": ("value", "source"),
+    "filter": ("op", "op_params"),
+    "group": (),
+}
+
 #: Which tiles of a layer an edit addresses: its painted values or its mask.
 Target = Literal["pixels", "mask"]
 
@@ -146,57 +154,74 @@ class Document:
         self._next_id += 1
         return layer_id
 
+    def new_layer(self, kind: str, name: str | None = None, **state: Any) -> Layer:
+        """A new layer of ``kind``, not yet in the stack (add it with an AddLayer edit).
+
+        ``state`` is its content -- paint: ``pixels`` (a grid of this document,
+        default empty); fill: ``value`` (an edit vector) or ``source`` (an
+        edit-space texture or EditMaterial); filter: ``op`` and ``op_params``
+        (bound against this document and the layer's parameters); group: none --
+        and any layer property (``visible=False``, ``parameters=[...]``), each
+        validated. Nothing changes in the document when a value is refused.
+        """
+        content = {key: state.pop(key) for key in _CONTENT.get(kind, ()) if key in state}
+        layer: Layer
+        if kind == "paint":
+            pixels = content.get("pixels") or TileGrid(self.layout, self.channels + 1, 0.0)
+            layer = PaintLayer(0, "", pixels=pixels)
+        elif kind == "fill":
+            value, source = content.get("value"), content.get("source")
+            if (value is None) == (source is None):
+                raise InvalidValue("a fill layer needs exactly one of value= or source=")
+            layer = FillLayer(0, "")
+            if value is not None:
+                layer.put("value", layer.validate("value", value, self.schema))
+            else:
+                data = source.data if isinstance(source, EditMaterial) else source
+                if np.shape(data)[:2] != self.size:
+                    raise InvalidValue(
+                        f"fill source is {np.shape(data)[:2]}, the document {self.size}"
+                    )
+                layer.put("source", layer.validate("source", data, self.schema))
+        elif kind == "filter":
+            if "op" not in content:
+                raise InvalidValue("a filter layer needs op=")
+            spec, bound = bind_filter(content["op"], content.get("op_params"))
+            layer = FilterLayer(0, "", op=spec.name, op_params=bound)
+        elif kind == "group":
+            layer = GroupLayer(0, "")
+        else:
+            raise InvalidValue(f"unknown layer kind {kind!r} (known: {', '.join(_CONTENT)})")
+        self._props(layer, state)
+        if isinstance(layer, FilterLayer):
+            get_op(layer.op).check(
+                layer.op_params, OpTarget(self.schema, layer.parameters, self.size)
+            )
+        layer.id = self._new_id()
+        if isinstance(layer, FilterLayer):
+            default = get_op(layer.op).label
+        else:
+            default = f"{kind.title()} {layer.id}"
+        layer.put("name", default if name is None else name)
+        return layer
+
+    # typed shorthands of :meth:`new_layer`
+
     def new_paint_layer(self, name: str | None = None, **props: Any) -> PaintLayer:
         """An empty paint layer (costs a dict and a fill vector until painted)."""
-        layer_id = self._new_id()
-        pixels = TileGrid(self.layout, self.channels + 1, 0.0)
-        layer = PaintLayer(layer_id, f"Paint {layer_id}" if name is None else name, pixels=pixels)
-        return self._props(layer, props)  # type: ignore[return-value]
+        return self.new_layer("paint", name, **props)  # type: ignore[return-value]
 
-    def new_fill_layer(
-        self,
-        name: str | None = None,
-        *,
-        value: np.ndarray | None = None,
-        source: np.ndarray | EditMaterial | None = None,
-        **props: Any,
-    ) -> FillLayer:
+    def new_fill_layer(self, name: str | None = None, **state: Any) -> FillLayer:
         """A fill layer with a constant edit ``value`` or an edit-space ``source`` texture."""
-        if (value is None) == (source is None):
-            raise InvalidValue("a fill layer needs exactly one of value= or source=")
-        layer_id = self._new_id()
-        layer = FillLayer(layer_id, f"Fill {layer_id}" if name is None else name)
-        if value is not None:
-            layer.put("value", layer.validate("value", value, self.schema))
-        else:
-            data = source.data if isinstance(source, EditMaterial) else source
-            if np.shape(data)[:2] != self.size:
-                raise InvalidValue(f"fill source is {np.shape(data)[:2]}, the document {self.size}")
-            layer.put("source", layer.validate("source", data, self.schema))
-        return self._props(layer, props)  # type: ignore[return-value]
+        return self.new_layer("fill", name, **state)  # type: ignore[return-value]
 
-    def new_filter_layer(
-        self,
-        op: str,
-        name: str | None = None,
-        *,
-        op_params: dict[str, Any] | None = None,
-        **props: Any,
-    ) -> FilterLayer:
-        """A filter layer running registry op ``op`` with ``op_params``, validated
-        against this document and the layer's parameters (so it can always run)."""
-        spec, bound = bind_filter(op, op_params)
-        layer_id = self._new_id()
-        layer = FilterLayer(layer_id, spec.label if name is None else name, op=op, op_params=bound)
-        self._props(layer, props)
-        spec.check(bound, OpTarget(self.schema, layer.parameters, self.size))
-        return layer
+    def new_filter_layer(self, op: str, name: str | None = None, **state: Any) -> FilterLayer:
+        """A filter layer running registry op ``op`` with ``op_params``."""
+        return self.new_layer("filter", name, op=op, **state)  # type: ignore[return-value]
 
     def new_group_layer(self, name: str | None = None, **props: Any) -> GroupLayer:
         """An empty group; layers join it by ``parent`` (and sit just below it)."""
-        layer_id = self._new_id()
-        layer = GroupLayer(layer_id, f"Group {layer_id}" if name is None else name)
-        return self._props(layer, props)  # type: ignore[return-value]
+        return self.new_layer("group", name, **props)  # type: ignore[return-value]
 
     def new_mask(self, fill: float = 1.0, array: np.ndarray | None = None) -> TileGrid:
         """A mask grid: uniform ``fill`` (1 reveals all, 0 hides all), or from a grayscale array."""

@@ -85,6 +85,11 @@ class Layer:
         """The parameters the compositor takes from this layer (None: all)."""
         return self.parameters
 
+    def state(self) -> dict[str, Any]:
+        """What :meth:`Document.new_layer` needs for a twin of this layer (a new id,
+        any name): its properties and its content (tiles are shared copy-on-write)."""
+        return {name: self.get(name) for name in self.PROPERTIES if name not in ("name", "filter")}
+
     def get(self, name: str) -> Any:
         """A property's current value (what an edit stores to undo)."""
         return getattr(self, name)
@@ -185,6 +190,10 @@ class PaintLayer(Layer):
         mean = freeze(mean_of(total, weight))
         self._mean = (self.version, mean)
         return mean
+
+    def state(self) -> dict[str, Any]:
+        assert self.pixels is not None
+        return {**super().state(), "pixels": self.pixels.copy()}
 
     def arrays(self) -> Iterator[np.ndarray]:
         yield from super().arrays()
@@ -304,6 +313,9 @@ class FilterLayer(Layer):
 
         extra = set(lobe_parameters(schema)) - set(params)
         return tuple(n for n in schema.names if n in params or n in extra)
+
+    def state(self) -> dict[str, Any]:
+        return {**super().state(), "op": self.op}
 
     def get(self, name: str) -> Any:
         if name == "filter":

@@ -178,32 +178,30 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
         raise MatshopError("an image layer needs the image: layer add PROJECT image FILE ...")
     if args.as_mask:
         return _image_as_mask(args, doc, history, settings)
-    if args.kind == "paint":
-        layer = doc.new_paint_layer(args.name, **props)
-    elif args.kind == "group":
-        layer = doc.new_group_layer(args.name, **props)
-    elif image:
-        layer = _image_layer(args, doc, parameters, props)
-    elif args.kind == "fill":
+    content: dict = {}
+    if args.kind == "fill":
         if bool(args.value) == (args.source is not None):
             raise MatshopError("a fill layer needs --value PARAM=V... or --from TEXTURE_SET")
         if args.value:
             value, defined = _fill_from_values(doc, args.value)
-            layer = doc.new_fill_layer(args.name, value=value, **props)
+            content["value"] = value
         else:
-            data, defined = _fill_from_set(doc, args.source)
-            layer = doc.new_fill_layer(args.name, source=data, **props)
+            content["source"], defined = _fill_from_set(doc, args.source)
         # a fill only affects what it defines, unless told otherwise
         parameters = parameters or defined
-    else:
+    elif args.kind == "filter":
         if not args.op:
             raise MatshopError("a filter layer needs --op NAME [KEY=VALUE ...]")
         spec = get_op(args.op[0])
-        layer = doc.new_filter_layer(
-            spec.name, args.name, op_params=spec.parse_args(args.op[1:]), **props
-        )
-    if parameters is not None:
-        layer.put("parameters", layer.validate("parameters", parameters, doc.schema))
+        content.update(op=spec.name, op_params=spec.parse_args(args.op[1:]))
+    if image:
+        layer = _image_layer(args, doc, parameters, props)
+        if parameters is not None:
+            layer.put("parameters", layer.validate("parameters", parameters, doc.schema))
+    else:
+        if parameters is not None:
+            props["parameters"] = parameters
+        layer = doc.new_layer(args.kind, args.name, **content, **props)
     index = args.index
     if args.group is not None:
         group = find_layer(doc, args.group, args.project)
