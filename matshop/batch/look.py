@@ -75,15 +75,15 @@ def _look(path: Path, mtime_ns: int) -> Document:
 
 def _copy_content(layer: Layer, look: Document, target: Document) -> Layer:
     if isinstance(layer, FilterLayer):
-        return target.new_filter_layer(layer.op, layer.name, op_params=dict(layer.op_params))
+        return target.new_layer("filter", layer.name, op=layer.op, op_params=dict(layer.op_params))
     if isinstance(layer, GroupLayer):
-        return target.new_group_layer(layer.name)
+        return target.new_layer("group", layer.name)
     if isinstance(layer, FillLayer):
         if layer.source is None:
             value = _remap(layer.value, look.schema, target.schema)
-            return target.new_fill_layer(layer.name, value=value)
+            return target.new_layer("fill", layer.name, value=value)
         source = _resampled(_remap(layer.source, look.schema, target.schema), target.size)
-        return target.new_fill_layer(layer.name, source=source)
+        return target.new_layer("fill", layer.name, source=source)
     if isinstance(layer, PaintLayer):
         assert layer.pixels is not None
         pixels = layer.pixels.to_array()
@@ -94,9 +94,8 @@ def _copy_content(layer: Layer, look: Document, target: Document) -> Layer:
         covered = both[..., -1:]
         values = np.divide(both[..., :-1], covered, out=np.zeros_like(both[..., :-1]),
                            where=covered > 1e-6)  # fmt: skip
-        new = target.new_paint_layer(layer.name)
-        new.pixels = TileGrid.from_array(np.concatenate([values, covered], -1), target.layout)
-        return new
+        pixels = TileGrid.from_array(np.concatenate([values, covered], -1), target.layout)
+        return target.new_layer("paint", layer.name, pixels=pixels)
     raise MatshopError(f"look layer {layer.name!r}: a {layer.kind} layer cannot be carried over")
 
 
