@@ -32,13 +32,31 @@ _BAND_TEXELS = 1 << 18
 
 @dataclass(frozen=True)
 class ParameterKind:
-    """What a named parameter is and the editing space it gets by default."""
+    """What a named parameter is: its editing space by default, how files hold it, how
+    panels name it. The one place these facts live; importer, exporter and UI read it."""
 
     name: str
     label: str
     default_space: str
     #: the file-name slot the parameter is usually imported from
     description: str
+    #: fits a toggle button four to a row (the layers panel)
+    button: str = ""
+    #: fits a narrow panel's list (brush, curves, swatches)
+    short: str = ""
+    #: a display-encoded color (sRGB in files, color3 in MaterialX)
+    color: bool = False
+    #: the tag of the file it is saved to (``name_tag.png``); None: not saved to files yet
+    file_tag: str | None = None
+    #: how a file of the slot of the same name is read: "color" (RGB), "scalar" (the
+    #: first channel) or "wide" (every channel: sampled functions); None: another way
+    imported_as: str | None = None
+
+
+def _kind(
+    name: str, label: str, space: str, description: str, button: str, short: str, **facts
+) -> ParameterKind:
+    return ParameterKind(name, label, space, description, button, short, **facts)
 
 
 #: The parameters matshop knows, by canonical name. Data, not branches: the
@@ -46,29 +64,43 @@ class ParameterKind:
 PARAMETER_KINDS: dict[str, ParameterKind] = {
     kind.name: kind
     for kind in (
-        ParameterKind("base_color", "Base color", "srgb", "albedo / base color, sRGB"),
-        ParameterKind("diffuse", "Diffuse kd", "srgb", "diffuse reflectance kd, sRGB"),
-        ParameterKind("specular", "Specular ks", "srgb", "specular reflectance ks, sRGB"),
-        ParameterKind("emissive", "Emissive", "srgb", "emitted color, sRGB"),
-        ParameterKind("metallic", "Metallic", "identity", "metalness, linear"),
-        ParameterKind("roughness", "Roughness (GGX)", "ggx", "GGX perceptual roughness r"),
-        ParameterKind("phong_exponent", "Phong exponent", "phong", "Phong exponent n"),
-        ParameterKind(
-            "anisotropic_exponents",
-            "Anisotropic exponents",
-            "ashikhmin_shirley",
-            "Ashikhmin-Shirley nu, nv",
-        ),
-        ParameterKind("beckmann_roughness", "Beckmann roughness", "beckmann", "Beckmann slope m"),
-        ParameterKind("distribution", "Microfacet distribution", "sampled", "sampled d(theta)"),
-        ParameterKind("profile", "Subsurface profile", "subsurface", "SubEdit profile p(r)"),
-        ParameterKind("normal", "Normal", "normal", "tangent-space frame (normal map)"),
-        ParameterKind("ao", "Ambient occlusion", "identity", "ambient occlusion, linear"),
-        ParameterKind("opacity", "Opacity", "identity", "opacity / alpha, linear"),
-        ParameterKind("transmission", "Transmission", "identity", "transmission weight, linear"),
-        ParameterKind("height", "Height", "identity_unbounded", "displacement, linear"),
+        _kind("base_color", "Base color", "srgb", "albedo / base color, sRGB", "Color",
+              "Base color", color=True, file_tag="basecolor", imported_as="color"),
+        _kind("diffuse", "Diffuse kd", "srgb", "diffuse reflectance kd, sRGB", "Diffuse",
+              "Diffuse", color=True),
+        _kind("specular", "Specular ks", "srgb", "specular reflectance ks, sRGB", "Specular",
+              "Specular", color=True, file_tag="specular", imported_as="color"),
+        _kind("emissive", "Emissive", "srgb", "emitted color, sRGB", "Emissive", "Emissive",
+              color=True, file_tag="emissive", imported_as="color"),
+        _kind("metallic", "Metallic", "identity", "metalness, linear", "Metal", "Metallic",
+              file_tag="metallic", imported_as="scalar"),
+        _kind("roughness", "Roughness (GGX)", "ggx", "GGX perceptual roughness r", "Rough",
+              "Roughness", file_tag="roughness", imported_as="scalar"),
+        _kind("phong_exponent", "Phong exponent", "phong", "Phong exponent n", "Phong",
+              "Phong n"),
+        _kind("anisotropic_exponents", "Anisotropic exponents", "ashikhmin_shirley",
+              "Ashikhmin-Shirley nu, nv", "Aniso", "Aniso n"),
+        _kind("beckmann_roughness", "Beckmann roughness", "beckmann", "Beckmann slope m",
+              "Beckm.", "Beckmann m"),
+        _kind("distribution", "Microfacet distribution", "sampled", "sampled d(theta)", "D(θ)",
+              "Distribution", file_tag="distribution", imported_as="wide"),
+        _kind("profile", "Subsurface profile", "subsurface", "SubEdit profile p(r)", "Profile",
+              "Subsurface", file_tag="profile", imported_as="wide"),
+        _kind("normal", "Normal", "normal", "tangent-space frame (normal map)", "Normal",
+              "Normal", file_tag="normal"),
+        _kind("ao", "Ambient occlusion", "identity", "ambient occlusion, linear", "AO",
+              "Occlusion", file_tag="ao", imported_as="scalar"),
+        _kind("opacity", "Opacity", "identity", "opacity / alpha, linear", "Alpha", "Opacity",
+              file_tag="opacity", imported_as="scalar"),
+        _kind("transmission", "Transmission", "identity", "transmission weight, linear",
+              "Transm.", "Transmission", file_tag="transmission", imported_as="scalar"),
+        _kind("height", "Height", "identity_unbounded", "displacement, linear", "Height",
+              "Height", file_tag="height", imported_as="scalar"),
     )
-}
+}  # fmt: skip
+
+#: parameters whose values are display-encoded colors
+COLOR_PARAMETERS = frozenset(name for name, kind in PARAMETER_KINDS.items() if kind.color)
 
 
 @dataclass(frozen=True)

@@ -40,24 +40,6 @@ from .session import DocumentSession
 
 INDENT = 16
 MASK_PX = 24
-_SHORT_NAMES = {
-    "base_color": "Color",
-    "roughness": "Rough",
-    "metallic": "Metal",
-    "normal": "Normal",
-    "ao": "AO",
-    "height": "Height",
-    "opacity": "Alpha",
-    "emissive": "Emissive",
-    "diffuse": "Diffuse",
-    "specular": "Specular",
-    "transmission": "Transm.",
-    "phong_exponent": "Phong",
-    "anisotropic_exponents": "Aniso",
-    "beckmann_roughness": "Beckm.",
-    "distribution": "D(θ)",
-    "profile": "Profile",
-}
 #: parameter buttons per row: the row wraps instead of widening the dock
 PARAM_COLUMNS = 4
 
@@ -223,7 +205,7 @@ class LayersPanel(QWidget):
         for number, name in enumerate(doc.schema.names):
             button = QToolButton()
             kind = PARAMETER_KINDS.get(name)
-            button.setText(_SHORT_NAMES.get(name, name.replace("_", " ")))
+            button.setText(kind.button if kind else name.replace("_", " "))
             button.setToolTip(f"Layer affects {kind.label if kind else name}")
             button.setCheckable(True)
             button.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)

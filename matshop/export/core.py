@@ -28,7 +28,7 @@ from ..io.fileset import PendingFile, check_targets, write_all
 from ..io.images import probe_image, write_image
 from ..io.normal_convention import CONVENTION_ATTRIBUTE
 from ..io.safe_names import safe_stem
-from ..material import Material, ProgressCallback
+from ..material import COLOR_PARAMETERS, Material, ProgressCallback
 from .obj import Mesh, read_obj, uv_sphere
 from .pack import is_written, pack_output, plan_missing
 from .presets import OutputSpec, Preset, load_preset
@@ -89,7 +89,7 @@ def file_safe_name(name: str) -> str:
 def describe_output(output: OutputSpec) -> str:
     """What an output file holds, e.g. ``R ao, G roughness, B metallic, A 1 - roughness``."""
     if output.channels is None:
-        color = f" ({output.color_space})" if output.source in _COLORS else ""
+        color = f" ({output.color_space})" if output.source in COLOR_PARAMETERS else ""
         return f"{output.source}{color}"
     parts = []
     for spec in output.channels:
@@ -101,9 +101,6 @@ def describe_output(output: OutputSpec) -> str:
             what = f"1 - {what}" if spec.transform == "invert" else what
         parts.append(f"{letter} {what}")
     return ", ".join(parts)
-
-
-_COLORS = frozenset({"base_color", "diffuse", "specular", "emissive"})
 
 
 def export_material(

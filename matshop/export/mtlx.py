@@ -38,6 +38,7 @@ from pathlib import Path
 
 import MaterialX as mx
 
+from ..material import COLOR_PARAMETERS
 from .presets import OutputSpec, Preset, locate
 
 
@@ -163,7 +164,7 @@ def build_document(
 
 
 def _is_color(output: OutputSpec) -> bool:
-    return output.source in ("base_color", "emissive", "specular", "diffuse")
+    return output.source in COLOR_PARAMETERS
 
 
 def _normal(graph: mx.NodeGraph, texels: mx.Node, convention: str) -> mx.Node:

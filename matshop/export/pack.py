@@ -18,10 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MatshopError
-from ..material import Material
+from ..material import COLOR_PARAMETERS, Material
 from ..spaces.color import linear_to_srgb, srgb_to_linear
 from ..spaces.frame import encode_normal_map
-from .presets import COLOR_PARAMETERS, OutputSpec, Preset
+from .presets import OutputSpec, Preset
 
 #: What engines assume when a map is absent (glTF spec defaults, Unreal's and
 #: Unity's material defaults), in file encoding. A color's default is an sRGB

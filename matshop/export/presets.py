@@ -55,8 +55,6 @@ from ..io.guard import read_input_file
 from ..io.jsonfile import MAX_JSON_BYTES, bounded_int
 from ..io.safe_names import file_name_problem, safe_stem
 
-#: parameters whose values are display-encoded colors
-COLOR_PARAMETERS = frozenset({"base_color", "diffuse", "specular", "emissive"})
 #: pseudo-parameters a preset may read besides the material's own
 PSEUDO_PARAMETERS = frozenset({"tangent"})
 

@@ -18,11 +18,11 @@ import numpy as np
 
 from ..errors import MatshopError
 from ..io.images import read_image
-from ..material import PARAMETER_KINDS, Material, Schema
+from ..material import COLOR_PARAMETERS, PARAMETER_KINDS, Material, Schema
 from ..spaces.color import linear_to_srgb
 from ..spaces.frame import decode_normal_map
 from .pack import is_written
-from .presets import COLOR_PARAMETERS, OutputSpec, Preset, load_preset, locate
+from .presets import OutputSpec, Preset, load_preset, locate
 
 
 def _locations(preset: Preset) -> dict[str, tuple[OutputSpec, int | None, bool]]:

@@ -27,7 +27,8 @@ from dataclasses import dataclass
 
 from pxr import Gf, Sdf, Tf, Usd, UsdShade
 
-from .presets import COLOR_PARAMETERS, OutputSpec, Preset, locate
+from ..material import COLOR_PARAMETERS
+from .presets import OutputSpec, Preset, locate
 
 _T = Sdf.ValueTypeNames
 #: UsdPreviewSurface input, its type, the matshop parameter feeding it

@@ -33,20 +33,11 @@ from .safe_names import safe_stem
 from .textureset import PACKED_CHANNELS, TextureSet, check_texture_set, resolve_texture_set
 from .usd_material import is_usd, read_usd_material
 
-#: slots whose first channel is a scalar parameter
-_SCALAR_SLOTS: dict[str, str] = {
-    "metallic": "metallic",
-    "roughness": "roughness",
-    "ao": "ao",
-    "height": "height",
-    "opacity": "opacity",
-    "transmission": "transmission",
-}
-_COLOR_SLOTS: dict[str, str] = {
-    "base_color": "base_color",
-    "specular": "specular",
-    "emissive": "emissive",
-}
+#: slots read as one parameter of the same name: RGB colors, first channels, wide maps
+_COLOR_SLOTS, _SCALAR_SLOTS, _WIDE_SLOTS = (
+    {name: name for name, kind in PARAMETER_KINDS.items() if kind.imported_as == how}
+    for how in ("color", "scalar", "wide")
+)
 #: what a packed channel's meaning (textureset.PACKED_CHANNELS) feeds: (parameter, inverted)
 _PACKED_MEANINGS: dict[str, tuple[str, bool]] = {
     "ao": ("ao", False),
@@ -54,24 +45,8 @@ _PACKED_MEANINGS: dict[str, tuple[str, bool]] = {
     "metallic": ("metallic", False),
     "smoothness": ("roughness", True),
 }
-#: matshop's own wide maps and the channel count each must have
-_WIDE_SLOTS: dict[str, str] = {"distribution": "distribution", "profile": "profile"}
-
-#: parameter -> (file tag, extension) used when saving
-_SAVE_TAGS: dict[str, str] = {
-    "base_color": "basecolor",
-    "specular": "specular",
-    "emissive": "emissive",
-    "metallic": "metallic",
-    "roughness": "roughness",
-    "ao": "ao",
-    "height": "height",
-    "opacity": "opacity",
-    "transmission": "transmission",
-    "normal": "normal",
-    "distribution": "distribution",
-    "profile": "profile",
-}
+#: parameter -> the tag of the file it is saved to
+_SAVE_TAGS = {name: kind.file_tag for name, kind in PARAMETER_KINDS.items() if kind.file_tag}
 
 
 @dataclass

@@ -16,25 +16,14 @@ from PySide6.QtCore import QObject, Signal
 
 from ..errors import InvalidValue
 from ..layers import Document, Rect
+from ..material import PARAMETER_KINDS
 from ..paint import Brush, Swatch, Symmetry
-
-#: Labels that fit a narrow panel (the schema's labels are descriptive: "Roughness (GGX)").
-SHORT_LABELS = {
-    "base_color": "Base color",
-    "roughness": "Roughness",
-    "metallic": "Metallic",
-    "normal": "Normal",
-    "ao": "Occlusion",
-    "phong_exponent": "Phong n",
-    "anisotropic_exponents": "Aniso n",
-    "beckmann_roughness": "Beckmann m",
-    "distribution": "Distribution",
-    "profile": "Subsurface",
-}
 
 
 def short_label(parameter: str) -> str:
-    return SHORT_LABELS.get(parameter, parameter.replace("_", " ").capitalize())
+    """A parameter's name that fits a narrow panel (the schema's labels are descriptive)."""
+    kind = PARAMETER_KINDS.get(parameter)
+    return kind.short if kind else parameter.replace("_", " ").capitalize()
 
 
 @dataclass(frozen=True)
