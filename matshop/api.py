@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .errors import MatshopError
-from .io.images import luminance, read_image, resample_image
+from .io.masks import load_mask
 from .io.material_io import LoadReport, load_material, save_material
 from .material import EditMaterial, Material, ProgressCallback
 from .ops import get_op
@@ -28,22 +28,6 @@ from .ops.selection import resolve_params
 from .ops.spec import OpTarget, run_op
 
 PathLike = str | os.PathLike[str]
-
-
-def load_mask(path: PathLike, size: tuple[int, int], *, resample: bool = False) -> np.ndarray:
-    """A grayscale mask image as (H, W) float32 in [0, 1], checked against ``size``.
-
-    ``resample``: a mask of another size is resampled to ``size`` (area-averaged
-    down, bilinear up) instead of refused; a batch recipe's mask meets sets of
-    every size.
-    """
-    pixels, info = read_image(path)
-    if pixels.shape[:2] != tuple(size) and not resample:
-        raise MatshopError(
-            f"mask is {info.width}x{info.height}, the material is {size[1]}x{size[0]}", path
-        )
-    # gray, gray+alpha: the gray; RGB(A): Rec. 709 luminance of the color
-    return resample_image(luminance(pixels), size)
 
 
 class EditableMaterial:

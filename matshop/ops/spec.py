@@ -234,10 +234,9 @@ def _parse_region(text: str, op: str, name: str) -> Any:
 
 def _validate_region(value: Any, where: str) -> Any:
     if isinstance(value, str | Path):
-        from ..io.images import read_image  # only when a mask file is given
+        from ..io.masks import load_region  # only when a mask file is given
 
-        pixels, _ = read_image(value)
-        return pixels[..., 0] > 0.5
+        return load_region(value)
     if hasattr(value, "clone"):  # precomputed CloneCoordinates
         return value
     array = np.asarray(value)
