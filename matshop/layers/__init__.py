@@ -5,7 +5,8 @@ Qt-free. Modules, one idea each:
 - :mod:`.geometry` — :class:`Rect`, :class:`TileLayout`, tile sets
 - :mod:`.tiles` — :class:`TileGrid`, sparse copy-on-write tile storage
 - :mod:`.blend` — blend modes in edit space (:data:`BLEND_MODES`)
-- :mod:`.filters` — which ops filter layers run and how far they reach
+- :mod:`.filters` — which ops filter layers run (their reach is the op's own)
+- :mod:`.properties` — the layer properties: type, range, text form, edit label
 - :mod:`.layer` — :class:`PaintLayer`, :class:`FillLayer`, :class:`FilterLayer`,
   :class:`GroupLayer`
 - :mod:`.cache`, :mod:`.compositor` — per-tile flatten and invalidation
