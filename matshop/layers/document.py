@@ -167,7 +167,9 @@ class Document:
         content = {key: state.pop(key) for key in _CONTENT.get(kind, ()) if key in state}
         layer: Layer
         if kind == "paint":
-            pixels = content.get("pixels") or TileGrid(self.layout, self.channels + 1, 0.0)
+            pixels = content.get("pixels")
+            if pixels is None:
+                pixels = TileGrid(self.layout, self.channels + 1, 0.0)
             layer = PaintLayer(0, "", pixels=pixels)
         elif kind == "fill":
             value, source = content.get("value"), content.get("source")
