@@ -66,11 +66,9 @@ def _parameters(value: Any, schema: Schema) -> tuple[str, ...] | None:
     """Schema parameter names in schema order; None (or all of them) means all."""
     if value is None:
         return None
-    try:
-        names = [value] if isinstance(value, str) else list(value)
-    except TypeError:
-        names = [value]
-    if not all(isinstance(n, str) for n in names):
+    # a sequence (an order-less set or a mapping is a mistake, not a selection)
+    names = [value] if isinstance(value, str) else value
+    if not isinstance(names, list | tuple) or not all(isinstance(n, str) for n in names):
         raise InvalidValue(f"parameters must be parameter names, got {value!r}")
     unknown = [n[:40] for n in names if n not in schema]
     if unknown:
