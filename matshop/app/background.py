@@ -1,16 +1,17 @@
-"""Slow filters (whole-image ones, bilateral over many tiles) flattened on a worker thread.
+"""Whole-image filters (bilateral, detail) flattened on a worker thread.
 
-The design, in one paragraph: the GUI thread owns the live document and keeps editing
-it; the worker only ever flattens a *snapshot* (see :meth:`Document.snapshot`), an
-independent document sharing nothing mutable with the live one. After every change of
-the live document, :meth:`Document.stale_slow_filters` says whether flattening it would
-be slow (a whole-image filter, or many tiles of a slow one). If so the document is
-*pending*: the canvas holds its last picture and nothing on the GUI thread reads the
-flatten (readers ask :attr:`BackgroundFlatten.ready`), and a worker flattens a snapshot.
-When it finishes and the live document is unchanged since the snapshot (a generation
-counter bumped by every document event), its caches are adopted and the canvas catches
-up; if the document changed meanwhile (a slider tick, an undo), the result is dropped
-and the latest state is flattened next: latest wins, one worker at a time.
+The design, in one paragraph: the GUI thread owns the live document and
+keeps editing it; the worker only ever flattens a *snapshot* (see
+:meth:`Document.snapshot`), an independent document sharing nothing mutable with the
+live one. After every change of the live document, :meth:`Document.stale_global_filters` says
+whether flattening it would recompute a whole-image filter. If so the
+document is *pending*: the canvas holds its last picture and nothing on the
+GUI thread reads the flatten (readers ask :attr:`BackgroundFlatten.ready`),
+and a worker flattens a snapshot. When it finishes and the live document is
+unchanged since the snapshot (a generation counter bumped by every document
+event), its caches are adopted and the canvas catches up; if the document
+changed meanwhile (a slider tick, an undo), the result is dropped and the
+latest state is flattened next: latest wins, one worker at a time.
 
 A reader that forgets to ask only costs a freeze (it flattens synchronously
 on the GUI thread), never a race: the threads share no mutable object.
@@ -121,7 +122,7 @@ class BackgroundFlatten(QObject):
         """Any change of the live document: older snapshots are stale; is it slow now?"""
         self.generation += 1
         doc = self.session.doc
-        slow = [] if doc is None else doc.stale_slow_filters()
+        slow = [] if doc is None else doc.stale_global_filters()
         self._set_pending(bool(slow))
         if slow:
             self.label = ", ".join(layer.name for layer in slow)
@@ -196,7 +197,7 @@ class BackgroundFlatten(QObject):
         doc, history = self.session.doc, self.session.history
         if doc is None or history is None or not self.pending:
             return
-        slow = doc.stale_slow_filters()
+        slow = doc.stale_global_filters()
         top = self.session.last_edit
         if isinstance(top, AddLayer) and any(layer is top.layer for layer in slow):
             self.session.undo()

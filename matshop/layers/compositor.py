@@ -97,36 +97,25 @@ def filter_by_tile(
     below: np.ndarray,
     reach: int,
 ) -> np.ndarray:
-    """A neighbourhood filter's values over ``rect`` (whole blocks), one block at a time.
+    """A neighbourhood filter's values over ``rect`` (whole tiles), one tile at a time.
 
     ``below`` is the composite over ``rect`` grown by ``reach`` (continued past
-    the image edge as the op's border says). Each block (a tile, or for a slow
-    op a square of tiles: :meth:`FilterLayer.block_tiles`) is filtered from its
-    own window, the block grown by ``reach``: OpenCV's rounding depends on an
+    the image edge as the op's border says). Each tile is filtered from its
+    own window, the tile grown by ``reach``: OpenCV's rounding depends on an
     image's size and on where a texel sits in it (SIMD tails, IPP paths for
-    one channel), and a lattice's approximation on where the lattice sits, so
-    a fixed window per block is what makes the result the same whichever
-    blocks happen to be recomputed together. For a blur it differs from
+    one channel), so a fixed window per tile is what makes the result the
+    same whichever tiles happen to be recomputed together. It differs from
     running the op on the whole image by float32 rounding only.
     """
     grown = rect.expand(reach)
     out = np.empty((rect.height, rect.width, below.shape[2]), dtype=np.float32)
-    for tile in layout.block_rects(rect, layer.block_tiles(layout, reach)):
+    for key in layout.keys_in(rect):
+        tile = layout.tile_rect(key)
         result = layer.run(below[tile.expand(reach).relative_to(grown)], schema, window=True)
         out[tile.relative_to(rect)] = result[
             reach : reach + tile.height, reach : reach + tile.width
         ]
     return out
-
-
-def _block_cover(layout: TileLayout, rect: Rect, blocks: int) -> Rect:
-    """The smallest rectangle of whole ``blocks x blocks``-tile blocks covering ``rect``."""
-    if blocks <= 1:
-        return rect
-    rows, cols = np.nonzero(layout.blocks_of(layout.tiles_of(rect), blocks))
-    first = layout.tile_rect((int(rows.min()), int(cols.min())))
-    last = layout.tile_rect((int(rows.max()), int(cols.max())))
-    return Rect(first.x0, first.y0, last.x1, last.y1)
 
 
 def close_group(
@@ -171,13 +160,10 @@ class Compositor:
         """Tiles of a layer's output that change when ``tiles`` of its input change."""
         if not (isinstance(layer, FilterLayer) and self.doc.shows(layer)):
             return tiles
-        layout = self.doc.layout
-        reach = layer.reach(layout, self.doc.schema)
+        reach = layer.reach(self.doc.layout, self.doc.schema)
         if reach is None:
-            return layout.all_tiles() if tiles.any() else tiles
-        # a block is computed from one window: any change in it changes all of it
-        grown = layout.dilate(tiles, reach, layer.border)
-        return layout.blocks_of(grown, layer.block_tiles(layout, reach))
+            return self.doc.layout.all_tiles() if tiles.any() else tiles
+        return self.doc.layout.dilate(tiles, reach, layer.border)
 
     def output_changed(self, index: int, tiles: TileSet) -> TileSet:
         """The output of ``layers[index]`` itself changed over ``tiles``; returns dirty tiles."""
@@ -235,18 +221,14 @@ class Compositor:
             return
         layout = self.doc.layout
         layer = self.doc.layers[count - 1]
-        if isinstance(layer, FilterLayer) and self.doc.shows(layer):
-            reach = layer.reach(layout, self.doc.schema)
-            if reach is None:
-                # a global filter costs the whole image whatever is asked: do it once
-                cache.store(layout.bounds, self._compute(count, layout.bounds))
-                return
-            blocks = layer.block_tiles(layout, reach)
-            if blocks > 1:  # computed by whole blocks: keep all of each
-                for part in layout.rects_of(layout.blocks_of(missing, blocks)):
-                    for block in layout.block_rects(part, blocks):
-                        cache.store(block, self._compute(count, block))
-                return
+        if (
+            isinstance(layer, FilterLayer)
+            and self.doc.shows(layer)
+            and layer.reach(layout, self.doc.schema) is None
+        ):
+            # a global filter costs the whole image whatever is asked: do it once
+            cache.store(layout.bounds, self._compute(count, layout.bounds))
+            return
         for part in layout.rects_of(missing, BAND_TEXELS):
             cache.store(part, self._compute(count, part))
 
@@ -346,13 +328,11 @@ class Compositor:
                 mean = mean_of(*weighted_mean(filtered))
             blend_into(layer, schema, below, filtered, layer.alpha(layout.bounds), mean)
             return below if rect == layout.bounds else below[rect.slices].copy()
-        outer = _block_cover(layout, rect, layer.block_tiles(layout, reach))
-        grown = outer.expand(reach)
+        grown = rect.expand(reach)
         below = self.read(index, grown, layer.border)
-        filtered = filter_by_tile(layer, schema, layout, outer, below, reach)
+        filtered = filter_by_tile(layer, schema, layout, rect, below, reach)
         block = np.ascontiguousarray(below[rect.relative_to(grown)])
-        values = filtered[rect.relative_to(outer)]
-        blend_into(layer, schema, block, values, layer.alpha(rect), None)
+        blend_into(layer, schema, block, filtered, layer.alpha(rect), None)
         return block
 
     def read(self, count: int, rect: Rect, border: str) -> np.ndarray:

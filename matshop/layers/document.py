@@ -33,10 +33,6 @@ from .geometry import Rect, TileKey, TileLayout, TileSet
 from .layer import FillLayer, FilterLayer, GroupLayer, Layer, PaintLayer
 from .tiles import TileGrid, freeze
 
-#: Texels (tiles with their margins) of a slow tiled filter that take it off an
-#: interactive thread: ~75 ms of bilateral at sigma 4 (measured 4-5 us a texel)
-SLOW_FILTER_TEXELS = 1 << 14
-
 #: What each layer kind is made of besides its properties (Document.new_layer)
 _CONTENT: dict[str, tuple[str, ...]] = {
     "paint": ("pixels",),
@@ -570,36 +566,23 @@ class Document:
         compositor.doc = self
         self._compositor = compositor
 
-    def stale_slow_filters(self) -> list[FilterLayer]:
-        """Visible filter layers whose part of the next flatten is slow.
+    def stale_global_filters(self) -> list[FilterLayer]:
+        """Visible whole-image filter layers the next flatten must recompute.
 
-        A whole-image filter (one blended in "detail" mode, curves over the
-        image's own range, a clone) recomputes all of it when anything below
-        it changes; a tiled filter whose op is slow per texel (bilateral,
-        detail: :attr:`OpSpec.slow`) recomputes its missing tiles, each with
-        its margin, and is slow past :data:`SLOW_FILTER_TEXELS` of them. That
-        is the work worth moving off an interactive thread; a dab under a
-        tiled bilateral is not.
+        A filter reading the whole image (bilateral, detail, or one blended in
+        "detail" mode) recomputes all of it when anything below it changes:
+        the slow part of a flatten, worth moving off an interactive thread.
         """
         compositor = self._compositor
         if compositor.top.valid.all():
             return []
         stale = []
         for layer in self.layers:
-            if not (isinstance(layer, FilterLayer) and self.shows(layer)):
-                continue
-            reach = layer.reach(self.layout, self.schema)
-            cached = compositor.checkpoints.get(layer.id)
-            missing = self.layout.all_tiles() if cached is None else ~cached.valid
-            if reach is None:
-                if missing.any():
-                    stale.append(layer)
-            elif reach > 0 and get_op(layer.op).slow:
-                blocks = layer.block_tiles(self.layout, reach)
-                side = blocks * self.layout.tile_size  # each block read with its margin
-                count = int(self.layout.blocks_of(missing, blocks).sum()) / blocks**2
-                if count * (side + 2 * reach) ** 2 > SLOW_FILTER_TEXELS:
-                    stale.append(layer)
+            if isinstance(layer, FilterLayer) and self.shows(layer):
+                if layer.reach(self.layout, self.schema) is None:
+                    cached = compositor.checkpoints.get(layer.id)
+                    if cached is None or not cached.valid.all():
+                        stale.append(layer)
         return stale
 
     def invalidate_all(self) -> None:

@@ -209,28 +209,6 @@ class TileLayout:
         grown = (grown > 0).astype(np.int32) @ reach_cols.astype(np.int32)
         return grown > 0
 
-    # -- blocks: squares of k x k tiles from (0, 0), cut short at the edges --
-
-    def blocks_of(self, tiles: TileSet, k: int) -> TileSet:
-        """Every tile of each ``k x k`` block that holds one of ``tiles``."""
-        if k <= 1:
-            return tiles.copy()
-        rows, cols = tiles.shape
-        grown = np.zeros((-(-rows // k) * k, -(-cols // k) * k), dtype=bool)
-        grown[:rows, :cols] = tiles
-        blocks = grown.reshape(grown.shape[0] // k, k, grown.shape[1] // k, k).any(axis=(1, 3))
-        return np.repeat(np.repeat(blocks, k, axis=0), k, axis=1)[:rows, :cols]
-
-    def block_rects(self, rect: Rect, k: int) -> list[Rect]:
-        """The ``k x k``-tile blocks a rectangle of whole blocks is made of, row by row."""
-        rows, cols = self.key_range(rect)
-        t = self.tile_size
-        return [
-            Rect(col * t, row * t, (col + k) * t, (row + k) * t).intersect(rect)
-            for row in rows[::k]
-            for col in cols[::k]
-        ]
-
     def rects_of(self, tiles: TileSet, max_texels: int | None = None) -> list[Rect]:
         """Merge a tile set into few rectangles covering exactly those tiles.
 

@@ -42,10 +42,6 @@ from .geometry import Rect, TileLayout
 from .properties import check_property, properties_of
 from .tiles import TileGrid, freeze
 
-#: a slow filter's squares span at least this many texels and reaches (FilterLayer.block_tiles)
-BLOCK_PX = 512
-BLOCK_REACHES = 16
-
 
 @dataclass(eq=False)
 class Layer:
@@ -347,22 +343,6 @@ class FilterLayer(Layer):
         if reach is not None and 2 * reach >= min(layout.height, layout.width):
             return None
         return reach
-
-    def block_tiles(self, layout: TileLayout, reach: int) -> int:
-        """Tiles per side of the squares the filter is computed in, one window each.
-
-        Each window reads ``reach`` texels of margin, and a slow op (a lattice)
-        pays per texel and per call (its own set-up: guide axes, density
-        probe), so it is computed in squares of at least :data:`BLOCK_PX` and
-        :data:`BLOCK_REACHES` reaches per side: the margin then costs at most
-        (1 + 2/16)^2 ~ 1.27x. (64 px tiles with a 12 px reach cost 1.9x in
-        margin, 3x in all on a 2K bilateral.) Fast ops compute each tile from
-        its own window.
-        """
-        if reach <= 0 or not get_op(self.op).slow:
-            return 1
-        side = max(BLOCK_PX, BLOCK_REACHES * reach)
-        return max(1, -(-side // layout.tile_size))
 
     def run(self, below: np.ndarray, schema: Schema, *, window: bool = False) -> np.ndarray:
         """The op on an ``(h, w, C)`` block of the composite below (a new array).

@@ -289,9 +289,6 @@ class OpSpec:
     inputs: tuple[str, ...] = field(default_factory=tuple)
     #: like ``inputs`` but optional, passed by keyword (e.g. a clone's source)
     optional_inputs: tuple[str, ...] = field(default_factory=tuple)
-    #: costly per texel (a lattice): front ends compute large areas of it off
-    #: the interactive thread (:meth:`Document.stale_slow_filters`)
-    slow: bool = False
     #: checks across parameters and against the target, run by :meth:`bind`
     checks: tuple[Check, ...] = ()
     #: texels of context one output texel reads (:data:`WHOLE_IMAGE`: all of them).
