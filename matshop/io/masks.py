@@ -3,7 +3,7 @@
 A mask is the *brightness* of an image, white showing and black hiding:
 one- and two-channel images (gray, gray + alpha) give their gray channel,
 color images the Rec. 709 luminance ``0.2126 R + 0.7152 G + 0.0722 B`` of
-their linear values. Why luminance and not the first channel: a mask is made
+the values in the file. Why luminance and not the first channel: a mask is made
 by painting light over dark in an image editor, and it is judged by eye; a
 green or blue stroke on black is as much a selection as a white one (the
 first channel would read it as empty), and a red one reads as dark, as it
