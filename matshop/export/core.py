@@ -110,7 +110,7 @@ def export_material(
     *,
     name: str | None = None,
     size: int | None = None,
-    keep_variance: bool = False,
+    keep_variance: bool | None = None,
     strict: bool = False,
     force: bool = False,
     glb: bool = False,
@@ -133,7 +133,8 @@ def export_material(
     size : longest side in texels, a power of two; the material is resampled
         in editing space. Default: keep the material's size.
     keep_variance : with ``size``, widen the lobe by the normal tilt variance
-        the reduction averages away (docs/variance.md).
+        the reduction averages away (docs/variance.md). None: the preset's
+        ``keepVariance``; True or False overrides it.
     strict : refuse to fill missing parameters with engine defaults.
     force : replace existing files.
     glb : also write ``<name>.glb`` (glTF binary: the material, glTF-packed
@@ -187,6 +188,8 @@ def export_material(
 
         mtlx_doc = checked_document(preset, outputs, texture_files, name, mtlx_shader)
 
+    if keep_variance is None:
+        keep_variance = preset.keep_variance
     if size is not None:
         material = resize_material(
             material, target_size(material.size, size), keep_variance=keep_variance

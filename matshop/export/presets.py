@@ -30,6 +30,13 @@ lacks the parameter. ``srcMapName`` may also be ``tangent`` (the tangent of a
 normal + tangent frame). A map with ``"optional": true`` is written only when
 the material has at least one of its parameters (emissive, height).
 
+``"keepVariance": true`` widens the roughness by the normal tilt variance a
+reduction averages away whenever an export with the preset downsizes
+(``--size N``; :mod:`matshop.ops.variance`); the command line's
+``--keep-variance`` / ``--no-keep-variance`` overrides it. The built-in presets
+say ``false``: a sampled distribution cannot be widened yet, and the bundled
+sample has one, so ``true`` would refuse its downsized exports.
+
 ``colorSpace`` applies to color parameters (base color, specular, emissive,
 diffuse): ``srgb`` or ``linear``; other parameters are data and always linear.
 Normals are encoded ``(n + 1) / 2`` in the preset's ``normalConvention``.
@@ -146,6 +153,8 @@ class Preset:
     normal_convention: str
     outputs: tuple[OutputSpec, ...]
     origin: str  #: ``built-in`` or the file it came from
+    #: widen the lobe by the normal variance a downsizing export removes
+    keep_variance: bool = False
 
     def output(self, channel: str) -> OutputSpec:
         for out in self.outputs:
@@ -241,7 +250,14 @@ def _parse_preset(data: dict[str, Any], origin: str) -> Preset:
     files = [o.file_for("m", name) for o in outputs]
     if len(set(files)) != len(files):
         raise InvalidValue("two maps would write the same file name")
-    return Preset(name, str(data.get("description", "")), convention, tuple(outputs), origin)
+    return Preset(
+        name,
+        str(data.get("description", "")),
+        convention,
+        tuple(outputs),
+        origin,
+        keep_variance=_flag(data, "keepVariance", False),
+    )
 
 
 def _parse_output(entry: dict[str, Any], default_template: str) -> OutputSpec:

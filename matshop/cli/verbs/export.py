@@ -14,6 +14,8 @@ from ..options import add_load_options, add_output_options, load_options
 
 #: the choices of --mtlx-shader (mtlx.SHADING_MODELS' names; kept here so --help stays light)
 SHADING_MODEL_NAMES = ("open_pbr_surface", "standard_surface", "gltf_pbr")
+#: --keep-variance in words; the editor's export dialog says the same
+KEEP_VARIANCE_HELP = "keep normal variance in roughness when downsizing"
 
 _DESCRIPTION = """\
 Load the texture set IN (a folder or one of its maps) and write what an engine
@@ -53,9 +55,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--keep-variance",
-        action="store_true",
-        help="with --size: widen the roughness by the normal detail the reduction removes, "
-        "so the smaller set keeps the look from afar",
+        action=argparse.BooleanOptionalAction,
+        help=f"{KEEP_VARIANCE_HELP} (with --size N): widen the roughness by the normal "
+        "detail the reduction removes, so the smaller set keeps the look from afar "
+        "(default: the preset's keepVariance, false in the built-in presets)",
     )
     parser.add_argument("--name", help="material name in file names (default: the set's name)")
     parser.add_argument("--glb", action="store_true", help="also write <name>.glb with a mesh")
