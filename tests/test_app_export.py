@@ -18,7 +18,7 @@ pytest.importorskip("pytestqt")
 from PySide6.QtCore import QTimer  # noqa: E402
 from PySide6.QtWidgets import QApplication, QDialogButtonBox  # noqa: E402
 
-from matshop.app.export_dialog import REPLACES, ExportDialog  # noqa: E402
+from matshop.app.export_dialog import REPLACES, ExportChoices, ExportDialog  # noqa: E402
 from matshop.app.prompts import Prompts  # noqa: E402
 from matshop.app.testing import ScriptedPrompts, make_window  # noqa: E402
 from matshop.app.theme import apply_theme  # noqa: E402
@@ -111,7 +111,7 @@ def test_the_dialog_lists_the_lines_and_names_the_replacement(qtbot, tmp_path) -
 
     # the real prompt: OK -> the extras chosen (none offered here), Cancel -> None
     prompts = Prompts(None)  # type: ignore[arg-type]
-    for button, expected in (("accept", {}), ("reject", None)):
+    for button, expected in (("accept", ExportChoices({})), ("reject", None)):
         give_up = time.monotonic() + 30.0  # a dialog that never shows ends the polling
 
         def answer(button: str = button, give_up: float = give_up) -> None:
@@ -136,10 +136,10 @@ def test_the_usd_checkbox_adds_its_files_to_the_list_and_the_export(
     def shown() -> list[str]:
         return [dialog.list.item(i).text() for i in range(dialog.list.count())]
 
-    assert shown() == lines and dialog.chosen() == {"usd": False}
+    assert shown() == lines and dialog.chosen().extras == {"usd": False}
     assert "These 1 files" in dialog.summary.text()
     dialog.extras["usd"].setChecked(True)
-    assert shown() == lines + usd_lines and dialog.chosen() == {"usd": True}
+    assert shown() == lines + usd_lines and dialog.chosen().extras == {"usd": True}
     assert "These 3 files" in dialog.summary.text()
     dialog.extras["usd"].setChecked(False)
     assert shown() == lines

@@ -6,8 +6,11 @@ skipped when the material lacks its parameters), the file name of each (from
 the preset's template and the material's name), what it holds, its format and
 bit depth, and whether a file of that name already exists in the folder (it
 would be replaced). :class:`ExportDialog` shows those lines with OK/Cancel,
-and a checkbox per optional extra (USD: :func:`plan_usd`) whose lines join the
-list while it is checked.
+a checkbox per optional extra (USD: :func:`plan_usd`) whose lines join the
+list while it is checked, and the size to write: the material's own or a
+smaller power of two (:func:`smaller_sizes`), with the option to keep normal
+variance in roughness, enabled only when a smaller size is chosen (the
+command line's ``--size N --keep-variance``).
 """
 
 from __future__ import annotations
@@ -18,8 +21,10 @@ from pathlib import Path
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
     QCheckBox,
+    QComboBox,
     QDialog,
     QDialogButtonBox,
+    QFormLayout,
     QLabel,
     QListWidget,
     QListWidgetItem,
@@ -34,6 +39,31 @@ from ..material import Material
 
 #: Ends the line of a file that exists and would be replaced.
 REPLACES = "exists, will be replaced"
+#: the option's words, as ``matshop export --help`` says them for ``--keep-variance``
+KEEP_VARIANCE_LABEL = "Keep normal variance in roughness when downsizing"
+#: the smallest size offered
+SMALLEST_SIZE = 16
+
+
+@dataclass(frozen=True)
+class ExportChoices:
+    """What the user chose in the export dialog."""
+
+    extras: dict[str, bool]  #: each extra option (e.g. ``usd``): checked or not
+    size: int | None = None  #: the longest side to write (``--size``); None: as it is
+    keep_variance: bool = False  #: ``--keep-variance`` (only with a smaller ``size``)
+
+
+def smaller_sizes(size_hw: tuple[int, int]) -> list[int]:
+    """The powers of two below the material's longest side, largest first, down to
+    :data:`SMALLEST_SIZE` (what ``--size N`` accepts as a reduction)."""
+    longest = max(size_hw)
+    sizes = []
+    size = 1 << ((longest - 1).bit_length() - 1) if longest > 1 else 0  # the largest below
+    while size >= SMALLEST_SIZE:
+        sizes.append(size)
+        size //= 2
+    return sizes
 
 
 @dataclass(frozen=True)
@@ -100,8 +130,12 @@ class ExportDialog(QDialog):
         parent: QWidget | None = None,
         *,
         extras: dict[str, tuple[str, list[str]]] | None = None,
+        size_hw: tuple[int, int] | None = None,
+        keep_variance: bool = False,
     ) -> None:
-        """``extras``: option name -> (checkbox label, the lines it adds)."""
+        """``extras``: option name -> (checkbox label, the lines it adds); ``size_hw``: the
+        material's (height, width), which offers smaller sizes; ``keep_variance``: the
+        option's initial state (the preset's ``keepVariance``)."""
         super().__init__(parent)
         self.setWindowTitle("Export")
         layout = QVBoxLayout(self)
@@ -118,6 +152,20 @@ class ExportDialog(QDialog):
             box.toggled.connect(lambda on, more=extra_lines: self._show_extra(more, on))
             layout.addWidget(box)
             self.extras[option] = box
+        self.size = QComboBox()
+        self.keep_variance = QCheckBox(KEEP_VARIANCE_LABEL)
+        self.keep_variance.setChecked(keep_variance)
+        if size_hw is not None:
+            height, width = size_hw
+            self.size.addItem(f"As it is ({width}x{height})", None)
+            for side in smaller_sizes(size_hw):
+                self.size.addItem(f"{side} (longest side)", side)
+            form = QFormLayout()
+            form.addRow("Size:", self.size)
+            layout.addLayout(form)
+            layout.addWidget(self.keep_variance)
+        self.size.currentIndexChanged.connect(self._size_changed)
+        self._size_changed()
         buttons = QDialogButtonBox(
             QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel
         )
@@ -156,6 +204,15 @@ class ExportDialog(QDialog):
                     self.list.takeItem(self.list.row(item))
         self._refresh()
 
-    def chosen(self) -> dict[str, bool]:
-        """Each extra option: checked or not."""
-        return {option: box.isChecked() for option, box in self.extras.items()}
+    def _size_changed(self) -> None:
+        # only a reduction averages normal detail away
+        self.keep_variance.setEnabled(self.size.currentData() is not None)
+
+    def chosen(self) -> ExportChoices:
+        """The extras checked, the size and whether to keep the normal variance."""
+        size = self.size.currentData()
+        return ExportChoices(
+            {option: box.isChecked() for option, box in self.extras.items()},
+            size,
+            size is not None and self.keep_variance.isChecked(),
+        )

@@ -292,11 +292,16 @@ class FileController(QObject):
         usd_plan = plan_usd(material, folder)
         usd_label = "Also write USD (.usda, .usdz): the sphere with UsdPreviewSurface and MaterialX"
         extras = {"usd": (usd_label, [planned.line() for planned in usd_plan])}
-        chosen_extras = self.prompts.confirm_export([planned.line() for planned in plan], extras)
-        if chosen_extras is None:
+        choices = self.prompts.confirm_export(
+            [planned.line() for planned in plan],
+            extras,
+            size_hw=material.size,
+            keep_variance=chosen.keep_variance,
+        )
+        if choices is None:
             self.message.emit("Export cancelled")
             return
-        usd = chosen_extras.get("usd", False)
+        usd = choices.extras.get("usd", False)
         if usd:
             plan = plan + usd_plan
         finished = []
@@ -307,6 +312,8 @@ class FileController(QObject):
                 chosen,
                 folder,
                 name=export_name(material),
+                size=choices.size,
+                keep_variance=choices.keep_variance,
                 force=any(planned.exists for planned in plan),  # the user saw them listed
                 usdz=usd,
                 progress=work.progress,  # Cancel between files: all-or-nothing

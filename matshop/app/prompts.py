@@ -8,11 +8,14 @@ QMessageBox, which these methods use), so no test ever blocks on a dialog.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from PySide6.QtWidgets import QDialog, QFileDialog, QInputDialog, QMessageBox, QWidget
 
 from ..io.textureset import TextureSet
+
+if TYPE_CHECKING:
+    from .export_dialog import ExportChoices
 
 SaveAnswer = Literal["save", "discard", "cancel"]
 
@@ -152,13 +155,22 @@ class Prompts:
         return Path(path) if path else None
 
     def confirm_export(
-        self, lines: list[str], extras: dict[str, tuple[str, list[str]]] | None = None
-    ) -> dict[str, bool] | None:
+        self,
+        lines: list[str],
+        extras: dict[str, tuple[str, list[str]]] | None = None,
+        *,
+        size_hw: tuple[int, int] | None = None,
+        keep_variance: bool = False,
+    ) -> ExportChoices | None:
         """List the files an export will write (existing ones marked), with a checkbox
-        per extra (name -> (label, its lines)); None: cancelled, else the extras chosen."""
+        per extra (name -> (label, its lines)) and, given the material's ``size_hw``, the
+        size to write and whether to keep normal variance (initially ``keep_variance``);
+        None: cancelled, else what was chosen."""
         from .export_dialog import ExportDialog  # only built when asked
 
-        dialog = ExportDialog(lines, self.parent, extras=extras)
+        dialog = ExportDialog(
+            lines, self.parent, extras=extras, size_hw=size_hw, keep_variance=keep_variance
+        )
         try:
             accepted = dialog.exec() == QDialog.DialogCode.Accepted
             return dialog.chosen() if accepted else None

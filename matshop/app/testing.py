@@ -19,6 +19,7 @@ from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication, QWidget
 
 from ..io.textureset import TextureSet
+from .export_dialog import ExportChoices, smaller_sizes
 from .main_window import MainWindow
 from .prompts import Prompts, SaveAnswer
 
@@ -52,6 +53,10 @@ class ScriptedPrompts(Prompts):
         self.export_extras: set[str] = set()
         #: the lines of the last export confirmation
         self.export_lines: list[str] = []
+        #: the smaller size chosen in the export dialog (None: as it is)
+        self.export_size: int | None = None
+        #: the keep-variance box (None: left as the preset sets it)
+        self.export_keep_variance: bool | None = None
 
     def error(self, title: str, text: str) -> None:
         self.asked.append(("error", text))
@@ -116,14 +121,26 @@ class ScriptedPrompts(Prompts):
         return self.folder
 
     def confirm_export(
-        self, lines: list[str], extras: dict[str, tuple[str, list[str]]] | None = None
-    ) -> dict[str, bool] | None:
+        self,
+        lines: list[str],
+        extras: dict[str, tuple[str, list[str]]] | None = None,
+        *,
+        size_hw: tuple[int, int] | None = None,
+        keep_variance: bool = False,
+    ) -> ExportChoices | None:
         extras = extras or {}
         chosen = {name: name in self.export_extras for name in extras}
         shown = [line for name, (_, more) in extras.items() if chosen[name] for line in more]
         self.asked.append(("export", "\n".join([*lines, *shown])))
         self.export_lines = [*lines, *shown]
-        return chosen if self.export_answer else None
+        if not self.export_answer:
+            return None
+        size = self.export_size
+        if size is not None and (size_hw is None or size not in smaller_sizes(size_hw)):
+            raise AssertionError(f"the dialog offers no size {size} for {size_hw}")
+        keep = keep_variance if self.export_keep_variance is None else self.export_keep_variance
+        # as the dialog: the option applies only to a smaller size
+        return ExportChoices(chosen, size, size is not None and keep)
 
     def kinds(self) -> list[str]:
         return [kind for kind, _ in self.asked]
