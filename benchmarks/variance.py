@@ -14,6 +14,12 @@ height, mean tilt ~17 deg, GGX r = 0.3).
 
     python benchmarks/variance.py                       # ~2 min on 2 cores
     python benchmarks/variance.py --crop 512 512 1536   # a 512 crop at row 512, column 1536
+    python benchmarks/variance.py --figure-only         # only the figure (~30 s)
+
+Every run also writes docs/figures/variance_far_field.png (docs/figures.md): at
+4x, the far-field truth, the plain downsized render and the one with variance
+kept, side by side, for the bumpy material and the chessboard crop
+:data:`FIGURE_CROP`, and prints the RMSE of each panel.
 """
 
 from __future__ import annotations
@@ -30,9 +36,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from _common import CHESSBOARD  # noqa: E402
 
+from matshop.figures.drawing import caption, grid, side_label  # noqa: E402
 from matshop.material import Material  # noqa: E402
-from matshop.render.far_field import far_field_errors  # noqa: E402
+from matshop.render.far_field import far_field_errors, far_field_renders  # noqa: E402
 from matshop.render.materials import from_maps  # noqa: E402
+from matshop.render.tonemap import to_display, to_uint8  # noqa: E402
 from matshop.spaces.frame import height_to_normal  # noqa: E402
 
 
@@ -68,6 +76,62 @@ def chessboards(crop: tuple[int, int, int] | None) -> list[Material]:
     return [from_maps(maps, name="chessboard"), from_maps(normals_only, name="chessboard normals")]
 
 
+#: the figure's chessboard crop (size, row, column): the lower board's squares and grooves
+FIGURE_CROP = (512, 900, 1400)
+FIGURE_FACTOR = 4
+FIGURE = Path(__file__).resolve().parents[1] / "docs" / "figures" / "variance_far_field.png"
+
+
+def _tile(display: np.ndarray, lines: list[str]) -> np.ndarray:
+    """A display image shown 2x larger (nearest), captioned."""
+    tile = to_uint8(display)
+    return caption(np.repeat(np.repeat(tile, 2, axis=0), 2, axis=1), lines)
+
+
+def figure(materials: list[tuple[str, Material]], path: Path = FIGURE) -> None:
+    """Truth / plain / kept at :data:`FIGURE_FACTOR`x, one row per material, each captioned
+    with its RMSE against the truth, then the two errors (grey: ``|error|``, the mean of
+    RGB in linear radiance, white at twice the plain render's RMSE)."""
+    import cv2
+
+    rows = []
+    for label, material in materials:
+        renders = far_field_renders(material, FIGURE_FACTOR)
+        plain, kept = renders.rmse(renders.plain), renders.rmse(renders.kept)
+        # one exposure per row, from the truth, so a bright material is not all white
+        exposure = float(-np.log2(max(np.percentile(renders.truth, 99.0), 1e-6)))
+        panels = (
+            (renders.truth, ["far-field truth:", "full res averaged 4x"]),
+            (renders.plain, ["downsized, plain", f"RMSE {plain:.4f}"]),
+            (renders.kept, ["downsized, variance kept", f"RMSE {kept:.4f}"]),
+        )
+        tiles = [_tile(to_display(image, exposure=exposure), text) for image, text in panels]
+        for name, image in (("plain", renders.plain), ("kept", renders.kept)):
+            error = np.abs(image - renders.truth).mean(axis=2, keepdims=True) / (2 * plain)
+            grey = np.repeat(np.clip(error, 0.0, 1.0), 3, axis=2)
+            tiles.append(_tile(grey, [f"|{name} - truth|", f"white: {2 * plain:.2f}"]))
+        h, w = material.size
+        lines = [label, f"{w}x{h} -> {w // 4}x{h // 4}", f"kept/plain {kept / plain:.2f}"]
+        rows.append(side_label(grid([tiles]), lines))
+        print(
+            f"figure {label:28s} {FIGURE_FACTOR}x: plain {plain:.4f} kept {kept:.4f} "
+            f"ratio {kept / plain:.3f}"
+        )
+    image = grid([[row] for row in rows], gap=6)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not cv2.imwrite(str(path), image[..., ::-1], [cv2.IMWRITE_PNG_COMPRESSION, 9]):
+        raise SystemExit(f"cannot write {path}")
+    print(f"wrote {path}")
+
+
+def figure_materials() -> list[tuple[str, Material]]:
+    materials = [("synthetic bumps", bumpy())]
+    if CHESSBOARD.is_dir():
+        size, row, col = FIGURE_CROP
+        materials.append((f"chessboard {size} at ({row},{col})", chessboards(FIGURE_CROP)[0]))
+    return materials
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -77,7 +141,13 @@ def main() -> None:
         metavar=("SIZE", "ROW", "COL"),
         help="a SIZE x SIZE crop of the chessboard at ROW, COL (default: the whole set)",
     )
+    parser.add_argument(
+        "--figure-only", action="store_true", help="only write the figure and its numbers"
+    )
     args = parser.parse_args()
+    figure(figure_materials())
+    if args.figure_only:
+        return
     materials = [bumpy()]
     if CHESSBOARD.is_dir():
         materials = chessboards(args.crop) + materials

@@ -60,21 +60,42 @@ def box_average(image: np.ndarray, factor: int) -> np.ndarray:
     return blocks.mean(axis=(1, 3))
 
 
+@dataclass(frozen=True)
+class FarFieldRenders:
+    """Linear radiance at the small size: the truth and the two downsized materials."""
+
+    factor: int
+    truth: np.ndarray  #: the full-resolution render, box-averaged by ``factor``
+    plain: np.ndarray  #: the material downsized by ``factor``
+    kept: np.ndarray  #: the same with the lost normal variance kept
+
+    def rmse(self, image: np.ndarray) -> float:
+        diff = image - self.truth
+        return float(np.sqrt(np.mean(diff * diff)))
+
+    def errors(self) -> FarFieldError:
+        return FarFieldError(self.factor, self.rmse(self.plain), self.rmse(self.kept))
+
+
+def far_field_renders(
+    material: Material, factor: int, *, reference: np.ndarray | None = None
+) -> FarFieldRenders:
+    """The three images a reduction by ``factor`` is judged on (``reference``: the
+    full-resolution :func:`swatch_radiance`, when already rendered)."""
+    full = swatch_radiance(material) if reference is None else reference
+    h, w = material.size
+    size = (h // factor, w // factor)
+    plain, kept = (
+        swatch_radiance(resize_material(material, size, keep_variance=keep))
+        for keep in (False, True)
+    )
+    return FarFieldRenders(factor, box_average(full, factor), plain, kept)
+
+
 def far_field_errors(
     material: Material, factors: tuple[int, ...] = (2, 4, 8), *, reference: np.ndarray | None = None
 ) -> list[FarFieldError]:
     """RMSE against the averaged full render of the downsized material, without and with
     variance kept, per reduction factor."""
     full = swatch_radiance(material) if reference is None else reference
-    h, w = material.size
-    results = []
-    for factor in factors:
-        target = box_average(full, factor)
-        size = (h // factor, w // factor)
-        errors = []
-        for keep in (False, True):
-            small = resize_material(material, size, keep_variance=keep)
-            diff = swatch_radiance(small) - target
-            errors.append(float(np.sqrt(np.mean(diff * diff))))
-        results.append(FarFieldError(factor, *errors))
-    return results
+    return [far_field_renders(material, f, reference=full).errors() for f in factors]
