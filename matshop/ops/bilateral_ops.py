@@ -5,6 +5,12 @@ selected parameters, each scaled by its edit range (and sampled functions by
 their quadrature weights), so a roughness step and a color step of the same
 relative size count the same. Detail enhancement is the unsharp mask with
 the bilateral as the blur: ``p~' = p~ + k (p~ - bilateral(p~))``.
+
+``keep_variance``: when the normals are smoothed (by ``bilateral``, or by
+``detail`` with a negative amount), the slope moments of the normals are
+filtered in the same lattice pass as zero-weight channels, so they get the op's
+own per-texel normalised weights ``W`` without changing the guide; the lost
+covariance ``W(s s^T) - W(s) W(s)^T`` widens the lobe (:mod:`.variance`).
 """
 
 from __future__ import annotations
@@ -18,6 +24,13 @@ from ..material import Schema
 from .bilateral import bilateral_filter
 from .selection import Selection
 from .spec import BORDER, WHOLE_IMAGE, Check, OpError, OpSpec, OpTarget, ParamSpec, Reach
+from .variance import (
+    lobe_parameters,
+    moments_covariance,
+    normal_moments,
+    smooths_normals,
+    widen_smoothed,
+)
 
 #: beyond this many guide channels the range guide is reduced by PCA (all
 #: channels are still filtered); 128-sample distributions would otherwise
@@ -40,11 +53,21 @@ def _filtered(
     sigma_range: float,
     border: str,
     guide: str = "auto",
-) -> np.ndarray:
+    moments: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """The bilateral of ``block``, and of ``moments`` with the same weights (None if none).
+
+    The moments ride along as channels of distance weight 0: they are left out of
+    the guide, so every texel's weights are the ones ``block`` gets.
+    """
     weights = selection.distance_weights()
     guide_dims = REDUCED_GUIDE_DIMS if np.count_nonzero(weights) > MAX_GUIDE_DIMS else None
-    return bilateral_filter(
-        np.ascontiguousarray(block),
+    image = np.ascontiguousarray(block)
+    if moments is not None:
+        image = np.concatenate([image, moments], axis=2)
+        weights = np.concatenate([weights, np.zeros(moments.shape[2], weights.dtype)])
+    out = bilateral_filter(
+        image,
         sigma_space_px=sigma_px,
         sigma_range=sigma_range,
         channel_weights=weights,
@@ -52,6 +75,21 @@ def _filtered(
         border=border,
         max_residual=MAX_RESIDUAL if guide == "auto" else None,
     )
+    width = block.shape[2]
+    return out[..., :width], (None if moments is None else out[..., width:])
+
+
+def _moments_to_keep(
+    edit: np.ndarray, schema: Schema | None, selection: Selection, op: str
+) -> np.ndarray | None:
+    """The normals' slope moments when ``keep_variance`` has tilt to keep, else None;
+    refuses lobes it cannot widen before the costly part."""
+    if schema is None:
+        raise OpError(f"{op}: needs the material's schema (which channels are normals)")
+    lobe_parameters(schema, op)
+    if not smooths_normals(schema, (g.name for g in selection.groups)):
+        return None  # the normals are not filtered: no tilt is lost
+    return normal_moments(edit, schema)
 
 
 def bilateral(
@@ -61,6 +99,7 @@ def bilateral(
     sigma_range: float = 0.1,
     border: str = "wrap",
     guide: str = "auto",
+    keep_variance: bool = False,
     schema: Schema | None = None,
     params: Sequence[str] | str | None = None,
     mask: np.ndarray | None = None,
@@ -70,11 +109,19 @@ def bilateral(
     ``sigma_range`` is a fraction of each parameter's edit range. ``guide``:
     ``"auto"`` leaves out the guide's principal axes that explain almost none
     of its variance (:data:`MAX_RESIDUAL`), ``"full"`` keeps every one.
+    ``keep_variance``: widen the lobe by the normal tilt variance the filter
+    removes (module doc).
     """
+    op = "bilateral keep_variance=true"
     selection = Selection(edit, schema=schema, params=params, mask=mask, op="bilateral")
+    moments = _moments_to_keep(edit, schema, selection, op) if keep_variance else None
     block = selection.take(edit)
-    filtered = _filtered(selection, block, sigma_px, sigma_range, border, guide)
-    return selection.put(edit, filtered)
+    base, averaged = _filtered(selection, block, sigma_px, sigma_range, border, guide, moments)
+    out = selection.put(edit, base)
+    if averaged is None:
+        return out
+    cov = moments_covariance(averaged)
+    return widen_smoothed(out, schema, cov, mask=selection.mask, op=op)
 
 
 def detail(
@@ -85,16 +132,30 @@ def detail(
     sigma_range: float = 0.1,
     border: str = "wrap",
     guide: str = "auto",
+    keep_variance: bool = False,
     schema: Schema | None = None,
     params: Sequence[str] | str | None = None,
     mask: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Detail enhancement: ``p~ + amount * (p~ - bilateral(p~))`` (negative amount smooths)."""
+    """Detail enhancement: ``p~ + amount * (p~ - bilateral(p~))`` (negative amount smooths).
+
+    ``keep_variance`` with a negative amount: the result is the average
+    ``(1 - t) p~ + t bilateral(p~)``, ``t = -amount``; the lobe is widened by the
+    tilt variance that average removes. A positive amount adds detail: nothing lost.
+    """
+    op = "detail keep_variance=true"
     selection = Selection(edit, schema=schema, params=params, mask=mask, op="detail")
+    moments = _moments_to_keep(edit, schema, selection, op) if keep_variance else None
+    if amount >= 0:
+        moments = None
     block = selection.take(edit)
-    base = _filtered(selection, block, sigma_px, sigma_range, border, guide)
-    enhanced = block + np.float32(amount) * (block - base)
-    return selection.put(edit, enhanced)
+    base, averaged = _filtered(selection, block, sigma_px, sigma_range, border, guide, moments)
+    k = np.float32(amount)
+    out = selection.put(edit, block + k * (block - base))
+    if averaged is None:
+        return out
+    cov = moments_covariance(moments + k * (moments - averaged))  # the same unsharp mix
+    return widen_smoothed(out, schema, cov, mask=selection.mask, op=op)
 
 
 def sigma_fits(op: str) -> Check:
@@ -152,13 +213,31 @@ _GUIDE = ParamSpec(
     missing="full",
 )
 
+
+def _keep_param(when: str) -> ParamSpec:
+    return ParamSpec(
+        "keep_variance",
+        "bool",
+        False,
+        "widen the lobe (roughness, Beckmann m, Phong/Ashikhmin-Shirley exponents) by "
+        f"the normal tilt variance the op smooths away; acts {when}, even if the lobe "
+        "parameter is not selected",
+    )
+
+
 SPECS = (
     OpSpec(
         name="bilateral",
         label="Bilateral filter",
         summary="edge-preserving smoothing guided by all selected parameters at once",
         function=bilateral,
-        params=(_SIGMA_PX, _SIGMA_RANGE, BORDER, _GUIDE),
+        params=(
+            _SIGMA_PX,
+            _SIGMA_RANGE,
+            BORDER,
+            _GUIDE,
+            _keep_param("whenever normal is filtered"),
+        ),
         linear=False,
         neighbourhood=True,
         checks=(sigma_fits("bilateral"),),
@@ -182,6 +261,7 @@ SPECS = (
             _SIGMA_RANGE,
             BORDER,
             _GUIDE,
+            _keep_param("when normal is filtered with a negative amount"),
         ),
         linear=False,
         neighbourhood=True,

@@ -18,7 +18,13 @@ import numpy as np
 from ..material import Schema
 from .selection import Selection
 from .spec import BORDER, OpError, OpSpec, OpTarget, ParamSpec, Reach
-from .variance import lobe_parameters, lost_slope_covariance, widen_lobes
+from .variance import (
+    lobe_parameters,
+    moments_covariance,
+    normal_moments,
+    smooths_normals,
+    widen_smoothed,
+)
 
 #: OpenCV's kernel for float images spans +-4 sigma
 _TRUNCATE = 4.0
@@ -180,15 +186,11 @@ def _keep_variance(
     """``after`` with its lobes widened by the tilt the blur took out of the normals."""
     if schema is None:
         raise OpError(f"{_KEEP}: needs the material's schema (which channels are normals)")
-    if "normal" not in schema or "normal" not in {g.name.split(".")[0] for g in selection.groups}:
+    if not smooths_normals(schema, (g.name for g in selection.groups)):
         return after  # the normals were not blurred: no tilt was lost
-    space = schema["normal"].space
-    cut = schema.edit_slices["normal"]
-    normal = space.from_edit(np.ascontiguousarray(before[..., cut]))
-    cov = lost_slope_covariance(normal[..., :3], lambda a: gaussian(a, sigma_px, border))
-    frame = space.from_edit(np.ascontiguousarray(after[..., cut]))
-    tangent = frame[..., 3:6] if frame.shape[-1] >= 6 else None
-    return widen_lobes(after, schema, cov, tangent=tangent, mask=selection.mask, op=_KEEP)
+    moments = normal_moments(before, schema)
+    cov = moments_covariance(gaussian(moments, sigma_px, border))
+    return widen_smoothed(after, schema, cov, mask=selection.mask, op=_KEEP)
 
 
 def check_blur(values: Mapping[str, Any], target: OpTarget) -> None:

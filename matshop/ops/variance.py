@@ -16,7 +16,7 @@ array and never narrows a lobe or touches any other channel.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 
 import numpy as np
 
@@ -64,21 +64,36 @@ def _clamp_psd(xx: np.ndarray, xy: np.ndarray, yy: np.ndarray) -> np.ndarray:
     return np.where((big <= 0)[..., None], 0.0, out)
 
 
+def slope_moments(normal: np.ndarray) -> np.ndarray:
+    """The five slope moments ``(s_x, s_y, s_x^2, s_x s_y, s_y^2)`` an averaging must
+    average, ``(H, W, 5)`` float32.
+
+    The slopes are taken relative to their image median: the covariance does not
+    change (the weights sum to one), float32 averaging then loses little to
+    cancellation, and a constant tilt gives exactly zero (its mean, summed in
+    float64, can differ from it in the last bit; its median cannot).
+    """
+    s = slopes(normal)
+    s = s - np.median(s.reshape(-1, 2), axis=0)
+    sx, sy = s[..., 0], s[..., 1]
+    moments = np.stack([sx, sy, sx * sx, sx * sy, sy * sy], axis=-1).astype(np.float32)
+    return np.ascontiguousarray(moments)
+
+
+def moments_covariance(averaged: np.ndarray) -> np.ndarray:
+    """``A(s s^T) - A(s) A(s)^T`` from averaged :func:`slope_moments`: ``(H, W, 3)``
+    ``(xx, xy, yy)``, float64, positive semi-definite per texel."""
+    m = np.asarray(averaged, dtype=np.float64)
+    mx, my = m[..., 0], m[..., 1]
+    return _clamp_psd(m[..., 2] - mx * mx, m[..., 3] - mx * my, m[..., 4] - my * my)
+
+
 def lost_slope_covariance(normal: np.ndarray, average: Average) -> np.ndarray:
     """Slope covariance ``A(s s^T) - A(s) A(s)^T`` the averaging removes: ``(H', W', 3)``.
 
     Channels are ``(xx, xy, yy)``, float64, positive semi-definite per texel.
-    The slopes are taken relative to their image mean first: the covariance
-    does not change (the weights sum to one) and float32 averaging then
-    loses nothing to cancellation (a constant tilt gives exactly zero).
     """
-    s = slopes(normal)
-    s = s - s.reshape(-1, 2).mean(axis=0)
-    sx, sy = s[..., 0], s[..., 1]
-    moments = np.stack([sx, sy, sx * sx, sx * sy, sy * sy], axis=-1).astype(np.float32)
-    m = average(np.ascontiguousarray(moments)).astype(np.float64)
-    mx, my = m[..., 0], m[..., 1]
-    return _clamp_psd(m[..., 2] - mx * mx, m[..., 3] - mx * my, m[..., 4] - my * my)
+    return moments_covariance(average(slope_moments(normal)))
 
 
 # --------------------------------------------------------------------------- lobes
@@ -191,3 +206,35 @@ def widen_lobes(
             widened = block + mask[..., None] * (widened - block)
         out[..., schema.edit_slices[name]] = np.where(lost[..., None], widened, block)
     return out
+
+
+def normal_moments(edit: np.ndarray, schema: Schema) -> np.ndarray:
+    """:func:`slope_moments` of the normals of an edit array laid out by ``schema``."""
+    space = schema["normal"].space
+    frame = space.from_edit(np.ascontiguousarray(edit[..., schema.edit_slices["normal"]]))
+    return slope_moments(frame[..., :3])
+
+
+def widen_smoothed(
+    after: np.ndarray,
+    schema: Schema,
+    cov: np.ndarray,
+    *,
+    mask: np.ndarray | None = None,
+    op: str = "keep variance",
+) -> np.ndarray:
+    """:func:`widen_lobes` of an op's result, the anisotropic axes along the result's own
+    tangents (when its normal space carries a frame)."""
+    frame = schema["normal"].space.from_edit(
+        np.ascontiguousarray(after[..., schema.edit_slices["normal"]])
+    )
+    tangent = frame[..., 3:6] if frame.shape[-1] >= 6 else None
+    return widen_lobes(after, schema, cov, tangent=tangent, mask=mask, op=op)
+
+
+def smooths_normals(schema: Schema | None, groups: Iterable[str]) -> bool:
+    """Whether the op's selected channel groups (``normal``, ``normal.x``...) include the
+    normals of ``schema``."""
+    return schema is not None and "normal" in schema and "normal" in {
+        g.split(".")[0] for g in groups
+    }
