@@ -514,9 +514,9 @@ def specialised(fragment: str, family: str) -> str:
     """``fragment`` with its D family fixed when it compiles (``u_family`` a constant).
 
     The compiler then drops the other families' code, which a CPU driver otherwise
-    pays for on every pixel: llvmpipe draws the surface shader ~1.5x faster for one
-    analytic family (the sampled lobe's tables are the cost). For a view that shows
-    one document's material at a time (the lit swatch).
+    pays for on every pixel: llvmpipe (Mesa 22.3) draws the surface shader of a GGX
+    material 2.2x faster (1024^2 swatch: 2.0 s -> 0.9 s under load). For a view that
+    shows one document's material at a time (the lit swatch).
     """
     declaration = "uniform int u_family;"
     if declaration not in fragment:
