@@ -11,6 +11,7 @@ def start(path: Path | None = None, argv: list[str] | None = None) -> int:
 
     from PySide6.QtWidgets import QApplication
 
+    from . import error_hook
     from .main_window import MainWindow
     from .theme import apply_theme
 
@@ -19,6 +20,7 @@ def start(path: Path | None = None, argv: list[str] | None = None) -> int:
     app.setOrganizationName("matshop")
     apply_theme(app)
     window = MainWindow()
+    error_hook.install(window.show_message)
     window.show()
     if path is not None:
         window.open_path(path)
