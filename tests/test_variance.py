@@ -336,3 +336,35 @@ def test_filter_layer_keeps_variance_through_a_project(tmp_path: Path) -> None:
     assert main(["flatten", str(project), str(tmp_path / "out")]) == 0
     got, _ = read_image(next((tmp_path / "out").glob("*roughness*")))
     np.testing.assert_allclose(got, (0.3**4 + HAND_TRACE) ** 0.25, atol=2e-4)
+
+
+def test_viewport_mips_widen_ggx_by_the_tilt_variance_they_average() -> None:
+    """The GL viewport's mip chain with keep variance (``shading_maps.mip_chain``): a
+    one-texel checkerboard of normals tilted +-theta about y has slopes -+tan(theta) along
+    x, so each 2x2 average removes a slope variance tan^2(theta) (worked out here) and
+    level 1's GGX alpha is sqrt(alpha^2 + tan^2 theta); level 0 and the plain chain keep
+    alpha; colours are untouched."""
+    from matshop.viewport.gl import shading_maps
+
+    theta, r = 0.3, 0.4
+    normal = _checker(_tilted(theta, 0.0), _tilted(-theta, 0.0))
+    tilt = np.arctan2(-normal[0, 0, 0], normal[0, 0, 2])
+    assert abs(abs(tilt) - theta) < 1e-6  # the tilt about y is theta
+    size = normal.shape[0]
+    schema = Schema.from_names(["base_color", "roughness", "normal"])
+    maps = {
+        "base_color": np.full((size, size, 3), 0.5, np.float32),
+        "roughness": np.full((size, size, 1), r, np.float32),
+        "normal": normal,
+    }
+    packed = shading_maps.pack(schema, maps)
+    plain = shading_maps.mip_chain(packed, 2)
+    kept = shading_maps.mip_chain(packed, 2, widen="ggx")
+    alpha = r * r
+    np.testing.assert_array_equal(kept["ks_lobe"][0], plain["ks_lobe"][0])
+    np.testing.assert_allclose(plain["ks_lobe"][1][..., 3], alpha, rtol=1e-6)
+    widened = math.sqrt(alpha**2 + math.tan(theta) ** 2)
+    np.testing.assert_allclose(kept["ks_lobe"][1][..., 3], widened, rtol=1e-5)
+    np.testing.assert_allclose(kept["ks_lobe"][2][..., 3], widened, rtol=1e-5)
+    np.testing.assert_array_equal(kept["ks_lobe"][1][..., :3], plain["ks_lobe"][1][..., :3])
+    np.testing.assert_array_equal(kept["kd_ao"][1], plain["kd_ao"][1])

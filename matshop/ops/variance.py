@@ -150,6 +150,33 @@ def _widen_physical(
     return _axis_exponent(phys, _tangent_axes(cov, tangent))
 
 
+def widen_render_lobe(
+    family: str, lobe: np.ndarray, cov: np.ndarray, tangent: np.ndarray | None = None
+) -> np.ndarray:
+    """The renderer's lobe parameters ``(H, W, 2)`` widened by the slope covariance ``cov``.
+
+    The parameters are :func:`matshop.render.surface.prepare`'s: GGX ``alpha`` (not
+    ``r``), Beckmann ``m``, Phong ``n`` (channel 0), Ashikhmin-Shirley ``(nu, nv)``
+    along ``tangent`` (x and y without). Never narrower than ``lobe``; the second
+    channel of the isotropic families is kept.
+    """
+    if family not in WIDENED_FAMILIES:
+        raise ValueError(f"cannot widen a {family!r} lobe ({', '.join(WIDENED_FAMILIES)})")
+    lobe = np.asarray(lobe, dtype=np.float64)
+    trace = cov[..., 0] + cov[..., 2]
+    out = lobe.copy()
+    if family == "ashikhmin_shirley":
+        out = np.minimum(_axis_exponent(lobe, _tangent_axes(cov, tangent)), lobe)
+    elif family == "phong":
+        out[..., 0] = np.minimum(_phong(lobe[..., 0], trace), lobe[..., 0])
+    elif family == "beckmann":
+        out[..., 0] = np.maximum(_beckmann(lobe[..., 0], trace), lobe[..., 0])
+    else:
+        alpha = np.clip(lobe[..., 0], 0.0, 1.0)
+        out[..., 0] = np.maximum(_ggx(np.sqrt(alpha), trace) ** 2, lobe[..., 0])
+    return out
+
+
 def lobe_parameters(schema: Schema, op: str = "keep variance") -> list[str]:
     """Names of the lobe parameters :func:`widen_lobes` rewrites; refuses lobes it cannot widen."""
     names = []

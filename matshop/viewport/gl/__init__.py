@@ -11,6 +11,7 @@ Modules, one idea each (Qt and OpenGL live here only, never in the engine):
 - :mod:`.mesh_gpu` — those arrays in a VAO
 - :mod:`.camera` — the orbit camera (matches :mod:`matshop.render.scenes` by default)
 - :mod:`.shading_maps` — document physical maps -> packed shading textures and their mips
+- :mod:`.sampled_lobe` — a sampled lobe's table and inverse-CDF nodes as one array texture
 - :mod:`.textures` — shading textures on the GPU, dirty tiles re-uploaded with byte counts
 - :mod:`.environment_gpu` — the environment's mip chain and irradiance map as textures
 - :mod:`.renderer` — the draw (background, shaded mesh), offscreen images

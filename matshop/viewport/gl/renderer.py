@@ -77,12 +77,20 @@ class MaterialRenderer:
             self.mesh.delete()
         self.mesh = GpuMesh(mesh)
 
-    def set_document(self, doc, *, lobe: str | None = None) -> None:
-        """Upload ``doc``'s shading textures (all of it, once); later only dirty tiles."""
+    def set_document(self, doc, *, lobe: str | None = None, keep_variance: bool = False) -> None:
+        """Upload ``doc``'s shading textures (all of it, once); later only dirty tiles.
+
+        ``keep_variance``: each mip level's lobe is widened by the normals' tilt
+        variance it averages away (specular anti-aliasing, :mod:`matshop.ops.variance`).
+        """
         if self.textures is not None:
             self.textures.delete()
         self._pending.clear()
-        self.textures = MaterialTextures(doc, lobe=lobe) if doc is not None else None
+        self.textures = (
+            MaterialTextures(doc, lobe=lobe, keep_variance=keep_variance)
+            if doc is not None
+            else None
+        )
 
     def mark_dirty(self, keys: Iterable[TileKey]) -> None:
         """Tiles to re-upload before the next frame (the document's dirty signal)."""

@@ -121,16 +121,37 @@ def pack(
 
 
 def mip_chain(
-    packed: Mapping[str, np.ndarray], levels: int, n_bins: int = 0
+    packed: Mapping[str, np.ndarray], levels: int, n_bins: int = 0, *, widen: str | None = None
 ) -> dict[str, list[np.ndarray]]:
-    """Each texture of ``packed`` and its ``levels`` 2x2-mean levels (:func:`box_mips`);
-    a sampled lobe's (``n_bins`` bins) nodes are its averaged table's
-    (:func:`.sampled_lobe.renode`), as the reference's prefilter samples the mixture."""
+    """Each texture of ``packed`` and its ``levels`` 2x2-mean levels (:func:`box_mips`).
+
+    A sampled lobe's (``n_bins`` bins) nodes are its averaged table's
+    (:func:`.sampled_lobe.renode`), as the reference's prefilter samples the mixture.
+    ``widen``: the analytic lobe family whose parameters each level widens by the
+    slope covariance its averaging removed from the level-0 normals (keep variance,
+    specular anti-aliasing: :func:`matshop.ops.variance.widen_render_lobe`).
+    """
     out = {name: box_mips(block, levels) for name, block in packed.items()}
     if "distribution" in out:
         chain = out["distribution"]
         out["distribution"] = chain[:1] + [sampled_lobe.renode(t, n_bins) for t in chain[1:]]
+    if widen is not None:
+        _widen_levels(out, packed, widen)
     return out
+
+
+def _widen_levels(out: dict[str, list[np.ndarray]], packed, family: str) -> None:
+    from ...ops.variance import lost_slope_covariance, widen_render_lobe
+
+    normal = packed["normal_lobe"][..., :3]
+    for level in range(1, len(out["ks_lobe"])):
+        cov = lost_slope_covariance(normal, lambda a, lv=level: box_mips(a, lv)[lv])
+        tangent = out["tangent"][level][..., :3] if "tangent" in out else None
+        ks, nl = out["ks_lobe"][level], out["normal_lobe"][level]
+        lobe = np.stack([ks[..., 3], nl[..., 3]], axis=-1)
+        wide = widen_render_lobe(family, lobe, cov, tangent).astype(np.float32)
+        out["ks_lobe"][level] = np.concatenate([ks[..., :3], wide[..., :1]], axis=-1)
+        out["normal_lobe"][level] = np.concatenate([nl[..., :3], wide[..., 1:]], axis=-1)
 
 
 def _median_alpha(quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:

@@ -12,7 +12,10 @@ aligned with the mip grid, so the chain stops where a tile is one texel
 the coarsest level, fine for any view the viewport offers). A document whose
 size is not a multiple of a power-of-two tile falls back to regenerating the
 mips on the GPU after an update (counted as the base level only; a sampled
-lobe's nodes are then averaged nodes, not its averaged table's).
+lobe's nodes are then averaged nodes, not its averaged table's). With
+``keep_variance`` each level's analytic lobe is widened by the tilt variance the
+level averages out of the normals (:func:`.shading_maps.mip_chain`; not on the
+fallback path, and not for sampled lobes).
 
 :attr:`MaterialTextures.bytes_uploaded` counts every byte passed to
 ``glTexImage2D``/``glTexSubImage2D``; ``tests/test_viewport_gl.py`` checks a dab
@@ -81,10 +84,12 @@ class MaterialTextures:
     Needs a current OpenGL context for every method.
     """
 
-    def __init__(self, doc, *, lobe: str | None = None) -> None:
+    def __init__(self, doc, *, lobe: str | None = None, keep_variance: bool = False) -> None:
         self.doc = doc
         self.lobe = lobe
         self.family = shading_maps.lobe_family(doc.schema, lobe)
+        #: mips widen an analytic lobe by the tilt variance they average away
+        self.widen = self.family if keep_variance and self.family != "sampled" else None
         layout = doc.layout
         self.width, self.height = layout.width, layout.height
         tile = layout.tile_size
@@ -119,7 +124,7 @@ class MaterialTextures:
         GL.glPixelStorei(GL.GL_UNPACK_ALIGNMENT, 1)
         sent = 0
         levels = self.max_level if self.tile_mips else 0
-        chain = shading_maps.mip_chain(packed, levels, self.bins)
+        chain = shading_maps.mip_chain(packed, levels, self.bins, widen=self.widen)
         for name in self.names:
             target = _target(self.layers[name])
             GL.glBindTexture(target, self.textures[name])

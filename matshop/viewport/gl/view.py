@@ -52,6 +52,7 @@ class MaterialViewport(QOpenGLWidget):
         self._mesh: MeshData = uv_sphere()
         self._uv_scale = (1.0, 1.0)
         self._lobe: str | None = None
+        self._keep_variance = False
         self._environment: Environment | str | None = None
         self._pick: PickBuffer | None = None
         self._surface: SurfaceMap | None = None
@@ -91,6 +92,13 @@ class MaterialViewport(QOpenGLWidget):
     def set_lobe(self, family: str | None) -> None:
         """Show the material with this D (ggx, beckmann, phong, ashikhmin_shirley) or its own."""
         self._lobe = family
+        self._stale_content = True
+        self.update()
+
+    def set_keep_variance(self, on: bool) -> None:
+        """Mips widen the lobe by the normals' tilt variance they average away (specular
+        anti-aliasing: a bumpy material keeps its highlight's breadth from afar)."""
+        self._keep_variance = bool(on)
         self._stale_content = True
         self.update()
 
@@ -146,7 +154,7 @@ class MaterialViewport(QOpenGLWidget):
         r.uv_scale = self._uv_scale
         if self._stale_content:
             r.set_mesh(self._mesh)
-            r.set_document(self.doc, lobe=self._lobe)
+            r.set_document(self.doc, lobe=self._lobe, keep_variance=self._keep_variance)
             self._stale_content = False
 
     def initializeGL(self) -> None:  # noqa: N802 (Qt's name)
