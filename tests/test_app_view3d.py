@@ -276,3 +276,19 @@ def test_without_opengl_the_dock_shows_one_line_and_the_editor_works(tmp_path):
     note = next(line for line in done.stdout.splitlines() if line.startswith("NOTE"))
     assert note.startswith("NOTE 3D view unavailable: ") and "\n" not in note
     assert "PAINTED True" in done.stdout
+
+
+@needs_display
+def test_keep_variance_in_the_3d_toolbar_reaches_the_mips(window, qtbot):
+    """The toolbar's Keep Variance (the export option's words) switches the viewport's
+    mips to widened lobes (the sample's GGX roughness) and back."""
+    doc, viewport = open_sample(window, qtbot)
+    action = window.view3d.keep_variance_action
+    assert action.text() == "Keep Variance" and "--keep-variance" in action.toolTip()
+    viewport.render_image(64)  # a frame uploads the document
+    assert viewport.renderer.textures.widen is None
+    for on, widen in ((True, "ggx"), (False, None)):
+        action.trigger()
+        assert action.isChecked() is on
+        viewport.render_image(64)  # the next frame uploads the document again
+        assert viewport.renderer.textures.widen == widen

@@ -235,6 +235,13 @@ class View3DDock(QDockWidget):
         self.open_mesh_action = bar.addAction("Open Mesh…", self.open_mesh)
         self.open_mesh_action.setToolTip("Show the material on your own OBJ or glTF mesh")
         bar.addAction("Reset View", self.reset_view).setToolTip("Back to the front view")
+        self.keep_variance_action = bar.addAction("Keep Variance")
+        self.keep_variance_action.setCheckable(True)
+        self.keep_variance_action.setToolTip(
+            "Widen the roughness by the normal detail the view's smaller mip levels remove, "
+            "so the material keeps its look from afar (as export --keep-variance does)"
+        )
+        self.keep_variance_action.toggled.connect(self._keep_variance_toggled)
         spacer = QWidget()
         spacer.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
         bar.addWidget(spacer)
@@ -293,10 +300,15 @@ class View3DDock(QDockWidget):
         self.stack.addWidget(self.viewport)
         self.stack.setCurrentWidget(self.viewport)
         self.set_mesh(self.mesh_combo.currentData())
+        self.viewport.set_keep_variance(self.keep_variance_action.isChecked())
         self._document_replaced()
         return self.viewport
 
     # -- content -------------------------------------------------------------
+
+    def _keep_variance_toggled(self, on: bool) -> None:
+        if self.viewport is not None:
+            self.viewport.set_keep_variance(on)
 
     def _document_replaced(self) -> None:
         if self.viewport is not None:
