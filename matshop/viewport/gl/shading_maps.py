@@ -33,6 +33,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from ...material import Material, Schema
+from ...ops.variance import lost_slope_covariance, widen_render_lobe
 from ...render.surface import MIN_ROUGHNESS, prepare
 from . import sampled_lobe
 
@@ -141,8 +142,6 @@ def mip_chain(
 
 
 def _widen_levels(out: dict[str, list[np.ndarray]], packed, family: str) -> None:
-    from ...ops.variance import lost_slope_covariance, widen_render_lobe
-
     normal = packed["normal_lobe"][..., :3]
     for level in range(1, len(out["ks_lobe"])):
         cov = lost_slope_covariance(normal, lambda a, lv=level: box_mips(a, lv)[lv])
