@@ -32,7 +32,7 @@ install_default_format()
 if no_display_reason() is not None:  # before pytest-qt starts Qt
     pytest.skip(no_display_reason(), allow_module_level=True)
 
-from gl_testing import shown_viewport  # noqa: E402
+from gl_testing import release, shown_viewport  # noqa: E402
 
 from matshop.figures.common import resized  # noqa: E402
 from matshop.figures.synthetic import with_lobe  # noqa: E402
@@ -80,7 +80,9 @@ SAMPLED_P99_TOLERANCE = 4.0
 
 @pytest.fixture
 def viewport(gl_context, qtbot):
-    return shown_viewport(qtbot, SIZE)
+    widget = shown_viewport(qtbot, SIZE)
+    yield widget
+    release(widget)
 
 
 @pytest.fixture(scope="module", params=["sample", "chessboard"])
@@ -211,7 +213,7 @@ void main() {
 """
 
 
-def _probe(table: np.ndarray, mode: int, size: int, power: float = 1.0):
+def _probe(context, table: np.ndarray, mode: int, size: int, power: float = 1.0):
     """The shader's own sampled-lobe functions, compiled alone, over a constant 8x8
     document holding ``table``, uploaded and bound by the viewport's real path
     (``MaterialTextures``: half floats, 4 bins a layer, the nodes after them).
@@ -225,6 +227,7 @@ def _probe(table: np.ndarray, mode: int, size: int, power: float = 1.0):
     from matshop.viewport.gl.fbo import Framebuffer
     from matshop.viewport.gl.textures import MaterialTextures
 
+    assert context.make_current()  # a viewport drawn before left none current
     maps = {"distribution": np.broadcast_to(table.astype(np.float32), (8, 8, table.size)).copy()}
     material = Material("probe", Schema.from_names(["distribution"]), maps)
     doc = Document.from_material(material, tile_size=8)
@@ -277,7 +280,7 @@ def test_shader_sampled_d_integrates_to_one_and_reads_the_table(gl_context, alph
     from matshop.render.brdf import sampled_d
 
     size, power = 1024, 6.0
-    out, table = _probe(_ggx_table(alpha), 0, size, power)
+    out, table = _probe(gl_context, _ggx_table(alpha), 0, size, power)
     t = (np.arange(size * size) + 0.5) / (size * size)
     np.testing.assert_allclose(out[:, 1], t**power, rtol=1e-4, atol=1e-30)
     dx_dt = power * t ** (power - 1)
@@ -303,7 +306,7 @@ def test_shader_samples_are_the_references(gl_context, alpha):
     from matshop.spaces import get_space
 
     space = get_space("sampled")
-    gpu, table = _probe(_ggx_table(alpha), 1, 4)  # 16 pixels: y = (j + 1/2) / 16
+    gpu, table = _probe(gl_context, _ggx_table(alpha), 1, 4)  # 16 pixels: y = (j + 1/2) / 16
     # the quantiles as the texture holds them (half floats: a pdf from two close
     # angles is a few percent off the float64 one, a few hundredths of a mip level)
     quantiles = space.to_edit(table.astype(np.float32)[None]).astype(np.float16)

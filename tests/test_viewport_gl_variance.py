@@ -29,7 +29,7 @@ install_default_format()
 if no_display_reason() is not None:  # before pytest-qt starts Qt
     pytest.skip(no_display_reason(), allow_module_level=True)
 
-from gl_testing import shown_viewport  # noqa: E402
+from gl_testing import release, shown_viewport  # noqa: E402
 from scipy.ndimage import binary_erosion, gaussian_filter  # noqa: E402
 
 from matshop.layers import Document  # noqa: E402
@@ -65,7 +65,9 @@ def bumpy_metal(size: int) -> Material:
 
 @pytest.fixture
 def viewport(gl_context, qtbot):
-    return shown_viewport(qtbot, VIEW)
+    widget = shown_viewport(qtbot, VIEW)
+    yield widget
+    release(widget)
 
 
 def _gl(viewport, material: Material, level: float, keep: bool) -> np.ndarray:

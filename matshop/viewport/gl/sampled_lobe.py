@@ -74,17 +74,19 @@ def node_levels(n_bins: int) -> np.ndarray:
     return levels[node_indices(levels)].astype(np.float32)
 
 
-def _nodes(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``theta`` ``(H, W, NODES)`` at the stored levels of tables ``(H, W, N)``, and the levels."""
+def _nodes(table: np.ndarray) -> np.ndarray:
+    """``theta`` ``(H, W, NODES)`` at the stored levels of tables ``(H, W, N)``."""
     quantiles, levels = lobe_quantiles(np.ascontiguousarray(table, dtype=np.float32))
-    return quantiles[..., node_indices(levels)], levels
+    return quantiles[..., node_indices(levels)]
 
 
-def pack(table: np.ndarray) -> np.ndarray:
-    """Tables ``(H, W, N)`` -> the texture's ``(H, W, 4 layers(N))`` float32 texels."""
+def pack(table: np.ndarray, quantiles: np.ndarray, levels: np.ndarray) -> np.ndarray:
+    """Tables ``(H, W, N)`` and their inverse CDF ``(H, W, M)`` at ``levels`` (what
+    :func:`matshop.render.surface.prepare` computed) -> the texture's ``(H, W, 4 layers(N))``
+    float32 texels."""
     n = table.shape[-1]
-    nodes, _ = _nodes(table)
     padded = np.pad(table, ((0, 0), (0, 0), (0, 4 * table_layers(n) - n)))
+    nodes = quantiles[..., node_indices(levels)]
     return np.concatenate([padded, nodes], axis=2).astype(np.float32)
 
 
@@ -92,5 +94,5 @@ def renode(texels: np.ndarray, n_bins: int) -> np.ndarray:
     """``texels`` of a coarser mip level (averaged tables) with the nodes of those tables
     (their averaged nodes would be Read's interpolation, not the mixture)."""
     split = 4 * table_layers(n_bins)
-    nodes, _ = _nodes(texels[..., :n_bins])
+    nodes = _nodes(texels[..., :n_bins])
     return np.concatenate([texels[..., :split], nodes], axis=2)

@@ -117,7 +117,7 @@ def pack(
     if surface.emissive is not None:
         out["emissive"] = np.concatenate([surface.emissive, zero], axis=2)
     if table is not None:
-        out["distribution"] = sampled_lobe.pack(table)
+        out["distribution"] = sampled_lobe.pack(table, surface.quantiles, surface.levels)
     return {k: np.ascontiguousarray(v, dtype=np.float32) for k, v in out.items()}
 
 

@@ -143,7 +143,10 @@ class MaterialTextures:
         """Upload the whole document (bands of tile rows, bounded memory); returns bytes."""
         layout = self.doc.layout
         tile = layout.tile_size
-        band = max(tile, (1 << 20) // max(self.width, 1) // tile * tile)
+        # about 2^20 texels a band, fewer for a sampled lobe's 128 channels (its inverse
+        # CDF takes ~10 float64 temporaries of them)
+        texels = (1 << 20) // (1 + self.bins // 4)
+        band = max(tile, texels // max(self.width, 1) // tile * tile)
         sent = 0
         for y0 in range(0, self.height, band):
             rect = Rect(0, y0, self.width, min(y0 + band, self.height))
