@@ -110,7 +110,7 @@ def test_every_op_declares_its_reach(sample) -> None:
             assert reach != 0, f"{name} reads a neighbourhood but declares a pointwise reach"
 
 
-@pytest.mark.parametrize(("op", "values"), bad_cases())
+@pytest.mark.parametrize(("op", "values"), list(bad_cases()))
 def test_the_api_refuses_a_bad_value_and_changes_nothing(sample, op: str, values: dict) -> None:
     spec = get_op(op)
     material = EditableMaterial(sample)
