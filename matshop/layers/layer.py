@@ -300,8 +300,8 @@ class FilterLayer(Layer):
         return value
 
     def written_parameters(self, schema: Schema) -> tuple[str, ...] | None:
-        """Its parameters, plus the lobes a blur with ``keep_variance`` widens when it
-        blurs the normals (the widening is the point of the option)."""
+        """Its parameters, plus the lobes an op with ``keep_variance`` (blur, bilateral,
+        detail) widens when it smooths the normals (the widening is the point of the option)."""
         params = self.parameters
         if params is None or "normal" not in params or not self.op_params.get("keep_variance"):
             return params
