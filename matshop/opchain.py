@@ -97,10 +97,10 @@ def filter_layers(
             )
         params = None if step.params is None else list(step.params)
         names = tuple(resolve_params(doc.schema, params, step.op))
-        layer = doc.new_filter_layer(step.op, op_params=step.values, parameters=names)
-        if step.mask is not None:
-            if step.mask not in masks:
-                masks[step.mask] = doc.new_mask(array=mask_loader(step.mask, doc.size))
-            layer.put("mask", masks[step.mask])  # set as the project reader does
-        layers.append(layer)
+        if step.mask is not None and step.mask not in masks:
+            masks[step.mask] = doc.new_mask(array=mask_loader(step.mask, doc.size))
+        mask = None if step.mask is None else masks[step.mask]
+        layers.append(
+            doc.new_filter_layer(step.op, op_params=step.values, parameters=names, mask=mask)
+        )
     return layers

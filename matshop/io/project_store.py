@@ -318,11 +318,11 @@ def _layer(doc: Document, spec: LayerSpec, arrays: dict[str, np.ndarray]) -> Lay
         props["value"] = spec.value
     elif spec.kind == "filter":
         props.update(op=spec.op, op_params=spec.op_params)
+    if spec.mask is not None:
+        props["mask"] = _grid(doc, spec.mask, arrays[spec.mask.member])
     layer = doc.new_layer(spec.kind, name, **props)
     if spec.kind == "fill" and spec.source is not None and spec.value is not None:
         layer.put("value", layer.validate("value", spec.value, doc.schema))  # kept beside it
-    if spec.mask is not None:
-        layer.mask = _grid(doc, spec.mask, arrays[spec.mask.member])
     layer.id = spec.id
     return layer
 

@@ -158,8 +158,12 @@ class Document:
         edit-space texture or EditMaterial); filter: ``op`` and ``op_params``
         (bound against this document and the layer's parameters); group: none --
         and any layer property (``visible=False``, ``parameters=[...]``), each
-        validated. Nothing changes in the document when a value is refused.
+        validated; ``mask`` a one-channel grid of this document. Nothing changes in
+        the document when a value is refused.
         """
+        mask = state.pop("mask", None)
+        if mask is not None:
+            self._check_mask(mask)
         content = {key: state.pop(key) for key in _CONTENT.get(kind, ()) if key in state}
         layer: Layer
         if kind == "paint":
@@ -191,6 +195,7 @@ class Document:
         else:
             raise InvalidValue(f"unknown layer kind {kind!r} (known: {', '.join(_CONTENT)})")
         self._props(layer, state)
+        layer.mask = mask
         if isinstance(layer, FilterLayer):
             get_op(layer.op).check(
                 layer.op_params, OpTarget(self.schema, layer.parameters, self.size)
@@ -220,6 +225,10 @@ class Document:
     def new_group_layer(self, name: str | None = None, **props: Any) -> GroupLayer:
         """An empty group; layers join it by ``parent`` (and sit just below it)."""
         return self.new_layer("group", name, **props)  # type: ignore[return-value]
+
+    def _check_mask(self, mask: TileGrid) -> None:
+        if mask.channels != 1 or mask.layout != self.layout:
+            raise ValueError("a mask is a one-channel tile grid of this document's layout")
 
     def new_mask(self, fill: float = 1.0, array: np.ndarray | None = None) -> TileGrid:
         """A mask grid: uniform ``fill`` (1 reveals all, 0 hides all), or from a grayscale array."""
@@ -427,8 +436,8 @@ class Document:
         """Give a layer a mask (a one-channel grid of this document) or remove it."""
         index = self.index_of(layer_id)
         layer = self.layers[index]
-        if mask is not None and (mask.channels != 1 or mask.layout != self.layout):
-            raise ValueError("a mask is a one-channel tile grid of this document's layout")
+        if mask is not None:
+            self._check_mask(mask)
         old = layer.mask
         layer.mask = mask
         if self.shows(layer):
