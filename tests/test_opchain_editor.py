@@ -8,6 +8,7 @@ byte-identical. `test_batch.py` holds batch to `apply` the same way.
 
 from __future__ import annotations
 
+import json
 import os
 
 if not os.environ.get("DISPLAY"):
@@ -29,34 +30,34 @@ from matshop.opchain import Step, filter_layers
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "resources" / "sample"
 SIZE = 512  # the bundled sample's size
-PARAMS = "normal,roughness,base_color"
+PARAMS = ["normal", "roughness", "base_color"]
 
 RECIPE = f"""
 [[ops]]
 op = "blur"
 sigma_px = 2.5
-params = {PARAMS.split(",")!r}
+params = {json.dumps(PARAMS)}
 mask = "ramp.png"
 
 [[ops]]
 op = "bilateral"
 sigma_px = 4
 sigma_range = 0.2
-params = {PARAMS.split(",")!r}
+params = {json.dumps(PARAMS)}
 mask = "ramp.png"
 
 [[ops]]
 op = "curves"
 points = "0,0;0.5,0.6;1,1"
-params = {PARAMS.split(",")!r}
+params = {json.dumps(PARAMS)}
 mask = "ramp.png"
-""".replace("'", '"')
+"""
 #: the same chain in `matshop apply`'s words
 APPLY_WORDS = [
     "--op", "blur", "sigma_px=2.5",
     "--op", "bilateral", "sigma_px=4", "sigma_range=0.2",
     "--op", "curves", "points=0,0;0.5,0.6;1,1",
-    "--params", PARAMS,
+    "--params", ",".join(PARAMS),
 ]  # fmt: skip
 
 
