@@ -5,10 +5,13 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ...errors import MatshopError
 from ..options import add_load_options, add_output_options, load_options
+
+if TYPE_CHECKING:
+    from ...render.environment_choice import EnvironmentChoice
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,13 +41,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--env",
         default="studio",
-        help="studio (default), sky, uniform, or an equirectangular .hdr/.exr file",
+        help="studio (default), sky, uniform (radiance 1), uniform:L, or an equirectangular "
+        ".hdr/.exr file (the editor's View > Lighting offers the same)",
+    )
+    parser.add_argument(
+        "--env-rotation",
+        type=float,
+        default=0.0,
+        metavar="DEG",
+        help="turn the environment about up (+y) by DEG degrees; positive carries it to the "
+        "camera's right (0)",
     )
     parser.add_argument("--size", type=int, default=512, help="image size in pixels (512)")
     parser.add_argument(
         "--samples", type=int, default=32, help="environment samples per pixel (32)"
     )
-    parser.add_argument("--exposure", type=float, default=0.0, help="exposure in stops (0)")
+    parser.add_argument(
+        "--exposure",
+        type=float,
+        default=0.0,
+        help="exposure in stops: the linear radiance times 2^stops before the tone map, "
+        "also in an .exr/.hdr output (0)",
+    )
     parser.add_argument(
         "--tonemap", choices=("aces", "linear"), default="aces", help="tone curve (aces)"
     )
@@ -102,12 +120,20 @@ def parse_light(text: str):
     return DirectionalLight(tuple(xyz), tuple(e * 3 if len(e) == 1 else e))
 
 
+def describe(choice: EnvironmentChoice) -> str:
+    """The environment part of the summary line: its source, turn and exposure."""
+    turn = f" turned {choice.rotation_deg:g} deg" if choice.rotation_deg else ""
+    stops = f" at {choice.exposure_stops:+g} stops" if choice.exposure_stops else ""
+    return f"{choice.source}{turn}{stops}"
+
+
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ...io.images import write_image
     from ...io.inputs import load_flattened
     from ...progress import progress_bar
+    from ...render.environment_choice import EXPOSURE_RANGE_STOPS, EnvironmentChoice
     from ...render.render import render
 
     if args.output.exists() and not args.force:
@@ -133,18 +159,21 @@ def run(args: argparse.Namespace) -> int:
             raise MatshopError(f"--background expects R,G,B, got {args.background!r}")
         background = tuple(rgb)
     options = {}
-    check_number(args.exposure, "--exposure", -64.0, 64.0)
+    check_number(args.exposure, "--exposure", *EXPOSURE_RANGE_STOPS)
+    check_number(args.env_rotation, "--env-rotation", -1e6, 1e6)
+    choice = EnvironmentChoice.parse(args.env, args.env_rotation, args.exposure)
     if args.tiles is not None:
         check_number(args.tiles, "--tiles", 1e-3, 1e4)
         # a sphere is twice as long around as from pole to pole
         options["tiles"] = (args.tiles, args.tiles / 2.0) if scene == "sphere" else args.tiles
     material = load_flattened(args.input, **load_options(args))
+    environment = None if args.no_env else choice.load()
     with progress_bar(f"render {args.size}x{args.size}") as report:
         image = render(
             material,
             scene=scene,
             size=args.size,
-            environment=None if args.no_env else args.env,
+            environment=environment,
             environment_scale=0.0 if args.no_env else 1.0,
             lights=lights,
             samples=args.samples,
@@ -154,16 +183,18 @@ def run(args: argparse.Namespace) -> int:
         )
     suffix = args.output.suffix.lower()
     if suffix in (".exr", ".hdr"):
-        pixels = np.concatenate([image.radiance, image.alpha[..., None]], axis=2)
-        write_image(args.output, pixels if transparent else image.radiance, bit_depth="float")
+        # what the tone map would be given: the radiance at the chosen exposure
+        radiance = image.radiance * np.float32(2.0**choice.exposure_stops)
+        pixels = np.concatenate([radiance, image.alpha[..., None]], axis=2)
+        write_image(args.output, pixels if transparent else radiance, bit_depth="float")
     else:
-        pixels = image.display(exposure=args.exposure, tonemap=args.tonemap)
+        pixels = image.display(exposure=choice.exposure_stops, tonemap=args.tonemap)
         write_image(args.output, pixels if transparent else pixels[..., :3])
     covered = image.radiance[image.alpha > 0]
     mean = covered.mean(axis=0) if covered.size else np.zeros(3)
     print(
         f"{args.output}: {args.size}x{args.size} {args.scene}, "
-        f"env {'none' if args.no_env else args.env},"
+        f"env {'none' if args.no_env else describe(choice)},"
         f" {len(lights)} light(s); mean linear radiance on the object "
         f"{mean[0]:.3f} {mean[1]:.3f} {mean[2]:.3f}"
     )
