@@ -98,3 +98,79 @@ def test_mirror_x_paints_the_flip_of_the_stroke_in_one_undo_step(window, qtbot) 
     alone = layer.coverage(full)
     assert alone.max() > 0.59 and not alone[:, doc.width // 2 :].any()  # the left half only
     np.testing.assert_allclose(mirrored, alone + np.flip(alone, axis=1), atol=1e-6, rtol=0)
+
+
+def line_pixels_at(win, x_texel: float) -> int:
+    """Canvas pixels of the mirror line's colour down the column of texel ``x_texel``."""
+    canvas = win.canvas
+    image = canvas.grab().toImage()
+    x = round(canvas.to_widget(x_texel, 0).x())
+    top = round(canvas.to_widget(0, 0).y())
+    bottom = round(canvas.to_widget(0, win.session.doc.height).y())
+    target = np.array([MIRROR_LINE.red(), MIRROR_LINE.green(), MIRROR_LINE.blue()])
+    count = 0
+    for y in range(max(top, 0), min(bottom, image.height())):
+        for dx in (-1, 0, 1):
+            c = image.pixelColor(x + dx, y)
+            count += int(np.abs(np.array([c.red(), c.green(), c.blue()]) - target).max() < 40)
+    return count
+
+
+def test_the_mirror_centre_moves_by_its_handle_and_the_panel(window, qtbot) -> None:
+    from matshop.tools.settings import BrushSettings
+
+    doc, canvas = window.session.doc, window.canvas
+    panel = window.tool_panel.brush_panel
+    window.brush_settings.set("radius_px", 9.0)
+    window.brush_settings.set("flow", 0.6)
+    window.swatch_model.set_value("base_color", (0.9, 0.75, 0.1))
+    qtbot.keyClick(canvas, Qt.Key.Key_X, Qt.KeyboardModifier.ShiftModifier)
+    middle = (doc.width / 2, doc.height / 2)
+    assert panel.centre["x"].value() == middle[0] and not panel.centre_reset.isEnabled()
+    assert line_pixels_at(window, middle[0]) > 200
+
+    # drag the round handle where the lines cross to texel x = 150.3: snapped to 150.5
+    steps = window.session.steps
+    path = [canvas.to_widget(*middle), canvas.to_widget(120, 300), canvas.to_widget(150.3, 9)]
+    drag(canvas, path)
+    cx = 150.5
+    assert window.brush_settings.symmetry == Symmetry(True, False, (cx, middle[1]))
+    assert canvas.symmetry.centre == (cx, middle[1])
+    assert panel.centre["x"].value() == cx and panel.centre_reset.isEnabled()
+    assert window.session.steps == steps  # the handle moved, nothing was painted
+    assert line_pixels_at(window, cx) > 200 and line_pixels_at(window, middle[0]) < 10
+    assert window.tool_label.text().endswith("(mirrored left/right about x = 150.5)")
+
+    def stroke() -> None:
+        texels = [(40 + 9 * i, 120 + 40 * np.sin(i / 2.5)) for i in range(11)]
+        drag(canvas, [canvas.to_widget(x, y) for x, y in texels])
+
+    stroke()
+    layer = window.session.active_layer
+    full = Rect(0, 0, doc.width, doc.height)
+    mirrored = layer.coverage(full)
+    if SHOTS is not None:
+        canvas.flush()
+        canvas.grab().save(str(SHOTS / "symmetry_centre_canvas.png"))
+    qtbot.keyClick(canvas, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert not layer.coverage(full).any()
+    window.tool_panel.brush_panel.mirrors["x"].click()  # off, the centre kept
+    stroke()
+    alone = layer.coverage(full)
+    assert alone.max() > 0.59 and not alone[:, 150:].any()
+    # texel column j shows the stroke's column 2 cx - 1 - j (the dab at x lands at 2 cx - x)
+    columns = np.arange(doc.width)
+    source = (round(2 * cx) - 1 - columns) % doc.width
+    np.testing.assert_allclose(mirrored, alone + alone[:, source], atol=1e-6, rtol=0)
+
+    # the panel sets it too (half-texel steps), Middle puts it back; the project keeps it
+    window.tool_panel.brush_panel.mirrors["x"].click()
+    panel.centre["x"].setValue(300.0)
+    assert window.brush_settings.symmetry.centre == (300.0, middle[1])
+    assert line_pixels_at(window, 300.0) > 200
+    saved = BrushSettings()
+    saved.load_json(window.brush_settings.to_json())
+    assert saved.symmetry == window.brush_settings.symmetry
+    panel.centre_reset.click()
+    assert window.brush_settings.symmetry == Symmetry(True)
+    assert panel.centre["x"].value() == middle[0]

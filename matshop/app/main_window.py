@@ -114,6 +114,9 @@ class MainWindow(QMainWindow):
         self.brush_settings.changed.connect(self._brush_changed)
         self.session.targetChanged.connect(self._target_changed)
         self.canvas.cursorMoved.connect(self._cursor_moved)
+        self.canvas.mirrorCentreDragged.connect(
+            lambda x, y: self.brush_settings.set_mirror_centre((x, y))
+        )
         self._cursor = (math.nan, math.nan)
         # values under a still cursor change when a stroke or an undo lands
         self.session.historyChanged.connect(lambda: self._cursor_moved(*self._cursor))
@@ -328,6 +331,8 @@ class MainWindow(QMainWindow):
         if doc is not None:
             self.swatch_model.reset(doc)  # before the editor shows its values
         self.tool_panel.swatch_editor.set_schema(None if doc is None else doc.schema)
+        extent = (0, 0) if doc is None else (doc.width, doc.height)
+        self.tool_panel.brush_panel.set_extent(*extent)
         if doc is not None:
             for number, param in enumerate(doc.schema.parameters, start=1):
                 self.parameter_combo.addItem(param.label, param.name)

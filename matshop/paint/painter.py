@@ -85,8 +85,10 @@ class StrokeSession:
         What painting shows in a mask, as the mask reads: 1 reveals the layer,
         0 hides it, also after the mask was inverted (Photoshop's white and black).
     symmetry : Symmetry or str, optional
-        Mirror each dab about the texture's centre lines (``"x"``: left/right,
-        ``"y"``: top/bottom, ``"xy"``: both); paint and erase strokes only.
+        Mirror each dab about the mirror lines (``"x"``: left/right, ``"y"``:
+        top/bottom, ``"xy"``: both), through the texture's middle or the
+        symmetry's own centre; a mirror image reaching past the border wraps or
+        is clipped as ``wrap`` says (:mod:`.symmetry`); paint and erase strokes only.
     history : History, optional
         Where :meth:`end` pushes the stroke as one step.
     """

@@ -13,6 +13,7 @@
                                                 "roughness": [0.3]}},
        "mask_value": 1.0, "clone_offset": [-30, 12], "wrap": true,
        "symmetry": "x",               # none | x | y | xy: mirror about the centre lines
+       "symmetry_centre": [cx, cy],   # where they cross (texels); default the middle
        "points": [[x, y, pressure], [x, y], ...]}
     ]}
 
@@ -52,6 +53,7 @@ _STROKE_KEYS = {
     "clone_offset",
     "wrap",
     "symmetry",
+    "symmetry_centre",
     "points",
 }
 
@@ -93,6 +95,17 @@ def _number(value: Any, what: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise InvalidValue(f"{what} must be a number")
     return float(value)
+
+
+def _centre(value: Any) -> tuple[float, float] | None:
+    if value is None:
+        return None
+    if not (isinstance(value, list) and len(value) == 2):
+        raise InvalidValue("symmetry_centre must be [x, y] in texels")
+    cx, cy = (_number(v, "symmetry_centre") for v in value)
+    if max(abs(cx), abs(cy)) > MAX_COORD_PX:
+        raise InvalidValue(f"symmetry_centre {value!r} lies beyond +-{MAX_COORD_PX:g} texels")
+    return cx, cy
 
 
 def _samples(points: Any) -> list[StrokeSample]:
@@ -148,10 +161,12 @@ def parse_stroke(data: Any) -> StrokeSpec:
         if not isinstance(data["wrap"], bool):
             raise InvalidValue("wrap must be true or false")
         options["wrap"] = data["wrap"]
-    if "symmetry" in data:
-        if not isinstance(data["symmetry"], str):
+    if "symmetry" in data or "symmetry_centre" in data:
+        if not isinstance(data.get("symmetry", "none"), str):
             raise InvalidValue("symmetry must be none, x, y or xy")
-        options["symmetry"] = Symmetry.parse(data["symmetry"])
+        options["symmetry"] = Symmetry.parse(
+            data.get("symmetry", "none"), _centre(data.get("symmetry_centre"))
+        )
     layer = data.get("layer")
     if layer is not None and (isinstance(layer, bool) or not isinstance(layer, str | int)):
         raise InvalidValue("layer must be a layer name or id")

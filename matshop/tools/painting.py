@@ -118,7 +118,15 @@ class StrokeTool(Tool):
         symmetry = self.host.symmetry() if self.mirrors and text else None
         if symmetry:
             axes = {"x": "left/right", "y": "top/bottom", "xy": "both ways"}[symmetry.name]
-            text += f" (mirrored {axes})"
+            where = ""
+            if symmetry.centre is not None:
+                cx, cy = symmetry.centre
+                where = " about " + ", ".join(
+                    f"{axis} = {value:g}"
+                    for axis, value, on in (("x", cx, symmetry.x), ("y", cy, symmetry.y))
+                    if on
+                )
+            text += f" (mirrored {axes}{where})"
         return text
 
     def _action(self) -> str:

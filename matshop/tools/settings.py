@@ -62,8 +62,14 @@ class BrushSettings(QObject):
 
     def set_mirror(self, axis: str, on: bool) -> None:
         """Mirror across ``axis`` (``"x"``: left/right, ``"y"``: top/bottom) or not."""
-        x, y = self.symmetry.x, self.symmetry.y
-        symmetry = Symmetry(on, y) if axis == "x" else Symmetry(x, on)
+        x, y, centre = self.symmetry.x, self.symmetry.y, self.symmetry.centre
+        self._set_symmetry(Symmetry(on, y, centre) if axis == "x" else Symmetry(x, on, centre))
+
+    def set_mirror_centre(self, centre: tuple[float, float] | None) -> None:
+        """Where the mirror lines cross, in texels (snapped to half texels); None: the middle."""
+        self._set_symmetry(Symmetry(self.symmetry.x, self.symmetry.y, centre))
+
+    def _set_symmetry(self, symmetry: Symmetry) -> None:
         if symmetry != self.symmetry:
             self.symmetry = symmetry
             self.changed.emit()
@@ -83,19 +89,22 @@ class BrushSettings(QObject):
         self.set("radius_px", self.values["radius_px"] * factor)
 
     def to_json(self) -> dict[str, Any]:
-        return {**self.values, "symmetry": self.symmetry.name}
+        data: dict[str, Any] = {**self.values, "symmetry": self.symmetry.name}
+        if self.symmetry.centre is not None:
+            data["symmetry_centre"] = list(self.symmetry.centre)
+        return data
 
     def load_json(self, data: Any) -> None:
         if isinstance(data, dict):
             for spec in BRUSH_SETTINGS:
                 if isinstance(data.get(spec.name), int | float):
                     self.set(spec.name, data[spec.name])
+            centre = data.get("symmetry_centre")
             try:
-                symmetry = Symmetry.parse(data.get("symmetry", "none"))
-            except (InvalidValue, TypeError):  # an older or hand-edited project: no mirror
+                symmetry = Symmetry.parse(data.get("symmetry", "none"), centre)
+            except (InvalidValue, TypeError, ValueError):  # older or hand-edited: no mirror
                 symmetry = Symmetry()
-            self.set_mirror("x", symmetry.x)
-            self.set_mirror("y", symmetry.y)
+            self._set_symmetry(symmetry)
 
 
 #: Physical defaults of a fresh swatch: a rusty iron a user can see on any material.

@@ -17,10 +17,12 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import (
     QCheckBox,
     QColorDialog,
+    QDoubleSpinBox,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
     QLabel,
+    QPushButton,
     QVBoxLayout,
     QWidget,
 )
@@ -82,7 +84,47 @@ class BrushPanel(QGroupBox):
             mirrors.addWidget(check)
             self.mirrors[axis] = check
         layout.addLayout(mirrors)
+        layout.addLayout(self._build_centre())
+        #: the document's size in texels (the centre's range and where "middle" is)
+        self._extent = (0, 0)
         settings.changed.connect(self._sync)
+
+    def _build_centre(self) -> QHBoxLayout:
+        """Where the mirror lines cross: two texel boxes and a button back to the middle."""
+        row = QHBoxLayout()
+        row.addWidget(QLabel("Centre"))
+        self.centre: dict[str, QDoubleSpinBox] = {}
+        for axis in ("x", "y"):
+            box = QDoubleSpinBox()
+            box.setDecimals(1)
+            box.setSingleStep(0.5)
+            box.setSuffix(" px")
+            box.setKeyboardTracking(False)  # one change per finished number, not per digit
+            box.setToolTip(
+                f"The mirror line's {axis} in texels (half-texel steps); "
+                "or drag the round handle on the canvas"
+            )
+            box.valueChanged.connect(self._centre_edited)
+            row.addWidget(box, 1)
+            self.centre[axis] = box
+        self.centre_reset = QPushButton("Middle")
+        self.centre_reset.setToolTip("Put the mirror lines back through the texture's middle")
+        self.centre_reset.clicked.connect(lambda: self.settings.set_mirror_centre(None))
+        row.addWidget(self.centre_reset)
+        return row
+
+    def set_extent(self, width: int, height: int) -> None:
+        """The document's size: the centre boxes' range (0 without a document)."""
+        self._extent = (width, height)
+        for axis, size in (("x", width), ("y", height)):
+            self.centre[axis].blockSignals(True)
+            self.centre[axis].setRange(0.0, float(size))
+            self.centre[axis].blockSignals(False)
+        self._sync()
+
+    def _centre_edited(self) -> None:
+        if self._extent != (0, 0):
+            self.settings.set_mirror_centre((self.centre["x"].value(), self.centre["y"].value()))
 
     def _sync(self) -> None:
         for name, slider in self.sliders.items():
@@ -90,6 +132,13 @@ class BrushPanel(QGroupBox):
         symmetry = self.settings.symmetry
         for axis, on in (("x", symmetry.x), ("y", symmetry.y)):
             self.mirrors[axis].setChecked(on)
+        for axis, value in zip("xy", symmetry.centre_in(*self._extent), strict=True):
+            box = self.centre[axis]
+            box.blockSignals(True)
+            box.setValue(value)
+            box.setEnabled(getattr(symmetry, axis) and self._extent != (0, 0))
+            box.blockSignals(False)
+        self.centre_reset.setEnabled(symmetry.centre is not None)
 
 
 class SwatchEditor(QGroupBox):

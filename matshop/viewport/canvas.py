@@ -37,6 +37,8 @@ BACKGROUND = QColor(30, 31, 34)
 FRAME = QColor(0, 0, 0, 110)
 #: the mirror lines of symmetric painting (light dashes over a dark line)
 MIRROR_LINE = QColor(90, 200, 255, 235)
+#: radius of the round handle that moves the mirror centre, in widget pixels
+MIRROR_HANDLE_PX = 7
 #: Wheel zoom per 1/8 degree: one 15 degree notch zooms by ~1.2.
 WHEEL_STEP = 1.2 ** (1.0 / 120.0)
 
@@ -50,6 +52,8 @@ class TextureCanvas(QWidget):
     viewChanged = Signal()
     #: right-drag in the lit display: where the light should come from, (u, v) in [-1, 1]
     lightDragged = Signal(float, float)
+    #: the mirror centre's handle was dragged to texel (x, y) (the owner moves the symmetry)
+    mirrorCentreDragged = Signal(float, float)
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -79,6 +83,7 @@ class TextureCanvas(QWidget):
         self.lit_label = "Lit"
         self._overlay_levels: dict[int, QImage] = {}  # reductions of the overlay for zoom-out
         self._lighting = False
+        self._dragging_centre = False
         #: while set, the flatten is being computed elsewhere: keep the last picture
         self._held: str | None = None
         self._timer = QTimer(self)
@@ -152,12 +157,28 @@ class TextureCanvas(QWidget):
         """Where a dab at texel (x, y) is mirrored to (without (x, y) itself)."""
         if self.doc is None or not self.symmetry or not self.tool or not self.tool.mirrors:
             return []
-        points = [(x, y)]
-        if self.symmetry.x:
-            points.append((self.doc.width - x, y))
-        if self.symmetry.y:
-            points += [(px, self.doc.height - y) for px, _ in points]
-        return points[1:]
+        return self.symmetry.mirror_point(x, y, self.doc.width, self.doc.height)[1:]
+
+    def mirror_handle(self) -> QPointF | None:
+        """Widget point of the mirror centre's handle (where the lines cross), or None."""
+        if self.doc is None or not self.symmetry:
+            return None
+        return self.to_widget(*self.symmetry.centre_in(self.doc.width, self.doc.height))
+
+    def _on_mirror_handle(self, pos: QPointF) -> bool:
+        handle = self.mirror_handle()
+        if handle is None:
+            return False
+        return math.hypot(pos.x() - handle.x(), pos.y() - handle.y()) <= MIRROR_HANDLE_PX + 2
+
+    def _drag_centre(self, pos: QPointF) -> None:
+        """Move the handle's mirror line(s) to the cursor (the other coordinate stays)."""
+        assert self.doc is not None
+        x, y = self.to_texel(pos)
+        cx, cy = self.symmetry.centre_in(self.doc.width, self.doc.height)
+        x = min(max(x, 0.0), self.doc.width) if self.symmetry.x else cx
+        y = min(max(y, 0.0), self.doc.height) if self.symmetry.y else cy
+        self.mirrorCentreDragged.emit(x, y)
 
     def _light_at(self, pos: QPointF) -> None:
         if self.doc is not None:
@@ -396,17 +417,26 @@ class TextureCanvas(QWidget):
         if self.doc is None or not self.symmetry:
             return
         width, height = self.doc.width, self.doc.height
+        cx, cy = self.symmetry.centre_in(width, height)
         lines = []
         if self.symmetry.x:
-            lines.append((self.to_widget(width / 2, 0), self.to_widget(width / 2, height)))
+            lines.append((self.to_widget(cx, 0), self.to_widget(cx, height)))
         if self.symmetry.y:
-            lines.append((self.to_widget(0, height / 2), self.to_widget(width, height / 2)))
+            lines.append((self.to_widget(0, cy), self.to_widget(width, cy)))
         painter.setRenderHint(QPainter.RenderHint.Antialiasing, True)
         for start, end in lines:
             painter.setPen(QPen(QColor(0, 0, 0, 170), 4))
             painter.drawLine(start, end)
             painter.setPen(QPen(MIRROR_LINE, 2, Qt.PenStyle.DashLine))
             painter.drawLine(start, end)
+        # the handle that drags the centre: a ring in the line's colour over a dark disc
+        handle = self.to_widget(cx, cy)
+        painter.setPen(QPen(QColor(0, 0, 0, 190), 4))
+        painter.setBrush(QColor(0, 0, 0, 120))
+        painter.drawEllipse(handle, MIRROR_HANDLE_PX, MIRROR_HANDLE_PX)
+        painter.setPen(QPen(MIRROR_LINE, 2))
+        painter.setBrush(Qt.BrushStyle.NoBrush)
+        painter.drawEllipse(handle, MIRROR_HANDLE_PX, MIRROR_HANDLE_PX)
 
     def _tool_input(self) -> None:
         """After the tool saw an event: repaint if it draws outlines (they may have changed)."""
@@ -467,6 +497,10 @@ class TextureCanvas(QWidget):
         elif event.button() == Qt.MouseButton.RightButton and self.lit:
             self._lighting = True
             self._light_at(event.position())
+        elif event.button() == Qt.MouseButton.LeftButton and self._on_mirror_handle(
+            event.position()
+        ):
+            self._dragging_centre = True  # the handle, not a stroke
         elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
             self.tool.press(self._tool_event(event.position(), 1.0, event.modifiers()))
             self._tool_input()
@@ -483,6 +517,8 @@ class TextureCanvas(QWidget):
             self._view_changed()
         elif self._lighting:
             self._light_at(pos)
+        elif self._dragging_centre:
+            self._drag_centre(pos)
         elif self.tool is not None and self.tool.busy:
             self.tool.move(self._tool_event(pos, 1.0, event.modifiers()))
             self._tool_input()
@@ -494,6 +530,9 @@ class TextureCanvas(QWidget):
             self.unsetCursor()
         elif event.button() == Qt.MouseButton.RightButton and self._lighting:
             self._lighting = False
+        elif event.button() == Qt.MouseButton.LeftButton and self._dragging_centre:
+            self._dragging_centre = False
+            self._drag_centre(event.position())
         elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
             self.tool.release(self._tool_event(event.position(), 1.0, event.modifiers()))
             self._tool_input()
@@ -501,11 +540,12 @@ class TextureCanvas(QWidget):
 
     def tabletEvent(self, event: QTabletEvent) -> None:  # noqa: N802 - Qt override
         """Pen input with pressure; accepted, so Qt synthesises no mouse events."""
-        if self.tool is None or self._space:
-            event.ignore()  # panning with the pen goes through the mouse path
-            return
         kind = event.type()
         pos = event.position()
+        on_handle = kind == QEvent.Type.TabletPress and self._on_mirror_handle(pos)
+        if self.tool is None or self._space or on_handle or self._dragging_centre:
+            event.ignore()  # panning and the mirror handle go through the mouse path
+            return
         self._track(pos)
         tool_event = self._tool_event(pos, float(event.pressure()), event.modifiers())
         if kind == QEvent.Type.TabletPress:
