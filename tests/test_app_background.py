@@ -58,7 +58,7 @@ def test_a_snapshot_shares_tiles_but_no_layer_object(window) -> None:
     assert all(a is not b for a, b in zip(twin.layers, doc.layers, strict=True))
     assert twin.layers[0].source is doc.layers[0].source  # the frozen texture is shared
     assert np.array_equal(twin.flatten_edit(), doc.flatten_edit())
-    assert doc.stale_global_filters() == []
+    assert doc.stale_global_layers() == []
 
 
 def test_adding_a_bilateral_layer_returns_at_once_and_matches_the_engine(window, qtbot) -> None:

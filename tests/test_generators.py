@@ -124,7 +124,8 @@ def test_layer_add_takes_a_generated_mask_from_the_projects_normals(tmp_path) ->
     assert main(["new", str(project), "--from", str(folder)]) == 0
     args = ["layer", "add", str(project), "paint", "--name", "Dirt"]
     assert main([*args, "--mask-generator", "cavity", "radius_px=4"]) == 0
-    mask = load_project(project).document.layers[-1].mask.to_array()[..., 0]
+    doc = load_project(project).document
+    mask = doc.generated_mask(doc.layers[-1].id)
     assert mask[:, 32].min() > 0.9 and mask[:, 4].max() < 0.05  # in the groove, not on flat
     # bad options are one line, exit 2, the project unchanged
     before = project.read_bytes()

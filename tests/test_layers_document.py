@@ -325,7 +325,7 @@ def test_snapshot_flattens_on_its_own_and_its_caches_can_be_adopted() -> None:
     layer_id = add_paint(doc, history)
     dab(doc, history, layer_id, Rect(5, 6, 30, 20))
     history.push(AddLayer(doc.new_filter_layer("bilateral", op_params={"sigma_px": 2.0})))
-    stale = doc.stale_global_filters()
+    stale = doc.stale_global_layers()
     assert [layer.op for layer in stale] == ["bilateral"]
     twin = doc.snapshot()
     assert all(a is not b for a, b in zip(doc.layers, twin.layers, strict=True))
@@ -333,9 +333,9 @@ def test_snapshot_flattens_on_its_own_and_its_caches_can_be_adopted() -> None:
     twin_tiles = twin.layer(layer_id).pixels
     assert all(live_tiles.get(k) is twin_tiles.get(k) for k in live_tiles.keys())
     flat = twin.flatten_edit()  # as a worker would, without touching ``doc``
-    assert doc.stale_global_filters() == stale
+    assert doc.stale_global_layers() == stale
     doc.adopt_caches(twin)
-    assert doc.stale_global_filters() == []
+    assert doc.stale_global_layers() == []
     assert np.array_equal(doc.flatten_edit(), flat)
     assert np.array_equal(flat, flatten_reference(doc))
     # the adopted caches keep working: an edit after adoption invalidates them

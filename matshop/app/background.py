@@ -1,9 +1,9 @@
-"""Whole-image filters (bilateral, detail) flattened on a worker thread.
+"""Whole-image filters (bilateral, detail) and generated masks flattened on a worker thread.
 
 The design, in one paragraph: the GUI thread owns the live document and
 keeps editing it; the worker only ever flattens a *snapshot* (see
 :meth:`Document.snapshot`), an independent document sharing nothing mutable with the
-live one. After every change of the live document, :meth:`Document.stale_global_filters` says
+live one. After every change of the live document, :meth:`Document.stale_global_layers` says
 whether flattening it would recompute a whole-image filter. If so the
 document is *pending*: the canvas holds its last picture and nothing on the
 GUI thread reads the flatten (readers ask :attr:`BackgroundFlatten.ready`),
@@ -122,7 +122,7 @@ class BackgroundFlatten(QObject):
         """Any change of the live document: older snapshots are stale; is it slow now?"""
         self.generation += 1
         doc = self.session.doc
-        slow = [] if doc is None else doc.stale_global_filters()
+        slow = [] if doc is None else doc.stale_global_layers()
         self._set_pending(bool(slow))
         if slow:
             self.label = ", ".join(layer.name for layer in slow)
@@ -197,7 +197,7 @@ class BackgroundFlatten(QObject):
         doc, history = self.session.doc, self.session.history
         if doc is None or history is None or not self.pending:
             return
-        slow = doc.stale_global_filters()
+        slow = doc.stale_global_layers()
         top = self.session.last_edit
         if isinstance(top, AddLayer) and any(layer is top.layer for layer in slow):
             self.session.undo()

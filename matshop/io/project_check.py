@@ -342,6 +342,13 @@ def _parse_layer(
         name: _property(kind, name, _get(entry, name, where), schema, where)
         for name in ("name", "visible", "opacity", "blend", "parameters", "mask_inverted")
     }
+    generator = entry.get("mask_generator")
+    if generator is not None:  # projects before generated masks have none
+        generator = _dict(generator, f"{where} mask_generator")
+        try:
+            props["mask_generator"] = check_property(kind, "mask_generator", generator, schema)
+        except InvalidValue as exc:
+            raise FormatProblem(f"{where} mask_generator: {exc}") from None
     parent = entry.get("parent")
     if parent is not None:  # may name a group no longer in the stack, as in the document
         props["parent"] = _int(parent, f"{where} parent", 1, MAX_LAYER_ID)

@@ -15,6 +15,9 @@ A project file is a zip archive (see :mod:`matshop.io.project_store`) holding
          "parameters": null | [str], "mask_inverted": bool,
          "parent": null | int,                     # id of the group it belongs to
          "mask": null | GRID,                      # one channel
+         "mask_generator": {"kind": "cavity" | "edge" | "ao", "radius_px": float,
+                            "level": float, "contrast": float, "blur_px": float,
+                            "invert": bool},   # optional: the mask made of the layers below
          "pixels": GRID,                           # paint: C + 1 channels
          "value": null | [float] * C,              # fill: constant, and/or
          "source": null | ARRAY,                   # fill: (H, W, C) texture
@@ -187,6 +190,8 @@ def _encode_layer(layer: Layer, index: int, doc: Document, payloads: list[Payloa
     }
     if layer.mask is not None:
         entry["mask"] = _encode_grid(layer.mask, f"{prefix}/mask.f32", f"{where} mask", payloads)
+    if layer.mask_generator is not None:  # absent otherwise: older readers see nothing new
+        entry["mask_generator"] = layer.mask_generator.to_json()
     if isinstance(layer, PaintLayer):
         assert layer.pixels is not None
         pixels = _encode_grid(layer.pixels, f"{prefix}/pixels.f32", f"{where} pixels", payloads)

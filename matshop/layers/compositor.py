@@ -18,6 +18,15 @@ Invalidation is the mirror image: a change over some tiles of the input of a
 layer changes the same tiles of its output, or those tiles dilated by the
 reach of a filter (all tiles for a global one); walking up the stack gives
 exactly the tiles of every cache to drop, and the dirty tiles to report.
+
+A layer whose mask is *generated* (:class:`~matshop.ops.generators.MaskGenerator`)
+reads the normals of the whole composite below it: the compositor keeps its
+mask (one ``(H, W)`` array per layer) until a change below reaches the
+normals, then drops it and dirties everything the layer covers, since the
+generator's reach is the whole image. Which parameters a change can touch is
+carried up the stack (a layer changes only its own parameters, a filter may
+change its parameters from any), so painting the color under a cavity mask
+leaves the mask alone.
 """
 
 from __future__ import annotations
@@ -48,6 +57,29 @@ class LayerStack(Protocol):
     def shows(self, layer: Layer) -> bool: ...
 
     def group_starts(self) -> dict[int, int]: ...
+
+    def extent(self, layer: Layer) -> TileSet: ...
+
+
+#: parameter names a change may have touched; None: any of them
+Touched = frozenset[str] | None
+
+
+def touched_by(layer: Layer, schema: Schema, touched: Touched = frozenset()) -> Touched:
+    """``touched`` plus the parameters ``layer`` writes (None: all)."""
+    written = layer.written_parameters(schema)
+    if touched is None or written is None:
+        return None
+    return touched | frozenset(written)
+
+
+def generated_mask(layer: Layer, schema: Schema, below: np.ndarray) -> np.ndarray:
+    """The mask ``layer``'s generator makes of ``below``, the whole edit-space composite
+    under it: its normal parameter converted back to unit normals, then the generator."""
+    assert layer.mask_generator is not None
+    param = schema["normal"]
+    normals = param.space.from_edit(below[..., schema.edit_slices["normal"]])
+    return layer.mask_generator.run(np.asarray(normals)[..., :3])
 
 
 #: Texels per rectangle computed in one go (bounds temporaries to ~100s of MB
@@ -119,7 +151,12 @@ def filter_by_tile(
 
 
 def close_group(
-    doc: LayerStack, group: GroupLayer, below: np.ndarray, block: np.ndarray, rect: Rect
+    doc: LayerStack,
+    group: GroupLayer,
+    below: np.ndarray,
+    block: np.ndarray,
+    rect: Rect,
+    generated: np.ndarray | None = None,
 ) -> None:
     """End a pass-through group in place: ``block = lerp(below, block, opacity x mask)``.
 
@@ -131,7 +168,7 @@ def close_group(
         block[...] = below  # a hidden group hides its members
         return
     mixed = below.copy()
-    blend_into(group, doc.schema, mixed, block, group.alpha(rect), None)
+    blend_into(group, doc.schema, mixed, block, group.alpha(rect, generated=generated), None)
     block[...] = mixed
 
 
@@ -153,6 +190,8 @@ class Compositor:
         phys_width = sum(p.phys_channels for p in doc.schema.parameters)
         self.physical = TileCache(doc.layout, phys_width)
         self.checkpoints: dict[int, TileCache] = {}
+        #: the generated masks of layers with a mask generator, by layer id
+        self.generated: dict[int, np.ndarray] = {}
 
     # -- invalidation ------------------------------------------------------
 
@@ -165,18 +204,29 @@ class Compositor:
             return self.doc.layout.all_tiles() if tiles.any() else tiles
         return self.doc.layout.dilate(tiles, reach, layer.border)
 
-    def output_changed(self, index: int, tiles: TileSet) -> TileSet:
-        """The output of ``layers[index]`` itself changed over ``tiles``; returns dirty tiles."""
+    def output_changed(self, index: int, tiles: TileSet, touched: Touched = None) -> TileSet:
+        """The output of ``layers[index]`` itself changed over ``tiles`` (in the parameters
+        ``touched``, default: any); returns dirty tiles."""
         layer = self.doc.layers[index]
         if layer.id in self.checkpoints:
             self.checkpoints[layer.id].invalidate(tiles)
-        return self.input_changed(index + 1, tiles)
+        return self.input_changed(index + 1, tiles, touched)
 
-    def input_changed(self, start: int, tiles: TileSet) -> TileSet:
-        """The composite below ``layers[start]`` changed over ``tiles``; returns dirty tiles."""
-        for layer in self.doc.layers[start:]:
+    def input_changed(self, start: int, tiles: TileSet, touched: Touched = None) -> TileSet:
+        """The composite below ``layers[start]`` changed over ``tiles`` (in the parameters
+        ``touched``, default: any); returns dirty tiles."""
+        doc = self.doc
+        for layer in doc.layers[start:]:
             if not tiles.any():
                 break
+            if layer.mask_generator is not None and (touched is None or "normal" in touched):
+                # the generator reads the whole image: its mask changes everywhere
+                self.generated.pop(layer.id, None)
+                if doc.shows(layer):
+                    tiles = tiles | doc.extent(layer)
+                    touched = touched_by(layer, doc.schema, touched)
+            if isinstance(layer, FilterLayer) and doc.shows(layer):
+                touched = touched_by(layer, doc.schema, touched)  # it may read any parameter
             tiles = self.through(layer, tiles)
             if layer.id in self.checkpoints:
                 self.checkpoints[layer.id].invalidate(tiles)
@@ -185,11 +235,40 @@ class Compositor:
         return tiles
 
     def drop_checkpoint(self, layer_id: int) -> None:
+        """Forget what was cached of a layer (inserted, removed, moved or its filter changed)."""
         self.checkpoints.pop(layer_id, None)
+        self.generated.pop(layer_id, None)
 
     def invalidate_all(self) -> None:
         for cache in (self.top, self.physical, *self.checkpoints.values()):
             cache.invalidate(self.doc.layout.all_tiles())
+        self.generated.clear()
+
+    # -- generated masks ---------------------------------------------------
+
+    def mask_of(self, index: int) -> np.ndarray | None:
+        """The generated mask ``(H, W)`` of ``layers[index]`` (computed once per change
+        below), or None when its mask is not generated. Read-only."""
+        layer = self.doc.layers[index]
+        if layer.mask_generator is None:
+            return None
+        mask = self.generated.get(layer.id)
+        if mask is None:
+            below = self.composite(index, self.doc.layout.bounds)
+            mask = generated_mask(layer, self.doc.schema, below)
+            mask.flags.writeable = False
+            self.generated[layer.id] = mask
+        return mask
+
+    def stale_masks(self) -> list[Layer]:
+        """Shown layers whose generated mask the next flatten must compute."""
+        return [
+            layer
+            for layer in self.doc.layers
+            if layer.mask_generator is not None
+            and layer.id not in self.generated
+            and self.doc.shows(layer)
+        ]
 
     # -- computing ---------------------------------------------------------
 
@@ -264,9 +343,9 @@ class Compositor:
                 below = inputs.get(first)
                 if below is None:  # the group opened under this run's start: read the cache
                     below = self.composite(first, rect)
-                close_group(self.doc, layer, below, block, rect)
+                close_group(self.doc, layer, below, block, rect, self.mask_of(index))
             else:
-                self._apply(layer, block, rect)
+                self._apply(index, block, rect)
         return block
 
     def _opaque_base(self) -> bool:
@@ -279,6 +358,7 @@ class Compositor:
             and layer.blend == "normal"
             and layer.opacity == 1.0
             and layer.mask is None
+            and layer.mask_generator is None
             and layer.parameters is None
         )
 
@@ -289,10 +369,13 @@ class Compositor:
         out[...] = self.doc.background
         return out
 
-    def _apply(self, layer: Layer, block: np.ndarray, rect: Rect) -> None:
-        """Blend a layer without neighbourhood onto ``block`` (covering ``rect``) in place."""
+    def _apply(self, index: int, block: np.ndarray, rect: Rect) -> None:
+        """Blend ``layers[index]``, without neighbourhood, onto ``block`` (covering ``rect``)
+        in place."""
+        layer = self.doc.layers[index]
         if not self.doc.shows(layer):
             return
+        generated = self.mask_of(index)
         schema = self.doc.schema
         uses_mean = get_blend_mode(layer.blend).uses_mean
         mean = layer.mean() if uses_mean and not isinstance(layer, FilterLayer) else None
@@ -305,12 +388,14 @@ class Compositor:
                 part = part.intersect(rect)
                 values, coverage = layer.values(part)
                 target = block[part.relative_to(rect)]
-                blend_into(layer, schema, target, values, layer.alpha(part, coverage), mean)
+                alpha = layer.alpha(part, coverage, generated)
+                blend_into(layer, schema, target, values, alpha, mean)
         elif isinstance(layer, FillLayer):
-            blend_into(layer, schema, block, layer.content(rect), layer.alpha(rect), mean)
+            alpha = layer.alpha(rect, generated=generated)
+            blend_into(layer, schema, block, layer.content(rect), alpha, mean)
         elif isinstance(layer, FilterLayer):  # pointwise: the block is all it reads
             filtered = layer.run(block, schema)
-            blend_into(layer, schema, block, filtered, layer.alpha(rect), mean)
+            blend_into(layer, schema, block, filtered, layer.alpha(rect, generated=generated), mean)
         else:  # pragma: no cover - new kinds must be taught here
             raise TypeError(f"cannot composite a {type(layer).__name__}")
 
@@ -326,13 +411,15 @@ class Compositor:
             mean = None
             if get_blend_mode(layer.blend).uses_mean:
                 mean = mean_of(*weighted_mean(filtered))
-            blend_into(layer, schema, below, filtered, layer.alpha(layout.bounds), mean)
+            alpha = layer.alpha(layout.bounds, generated=self.mask_of(index))
+            blend_into(layer, schema, below, filtered, alpha, mean)
             return below if rect == layout.bounds else below[rect.slices].copy()
         grown = rect.expand(reach)
         below = self.read(index, grown, layer.border)
         filtered = filter_by_tile(layer, schema, layout, rect, below, reach)
         block = np.ascontiguousarray(below[rect.relative_to(grown)])
-        blend_into(layer, schema, block, filtered, layer.alpha(rect), None)
+        alpha = layer.alpha(rect, generated=self.mask_of(index))
+        blend_into(layer, schema, block, filtered, alpha, None)
         return block
 
     def read(self, count: int, rect: Rect, border: str) -> np.ndarray:

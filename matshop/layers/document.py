@@ -26,7 +26,7 @@ from ..material import EditMaterial, Material, Schema
 from ..memory import require_memory
 from ..ops import get_op
 from ..ops.spec import OpTarget
-from .compositor import Compositor
+from .compositor import Compositor, touched_by
 from .events import DirtyRegion, DocumentEvents
 from .filters import bind_filter
 from .geometry import Rect, TileKey, TileLayout, TileSet
@@ -317,7 +317,7 @@ class Document:
 
     # -- mutations (no undo here: edits call these) -------------------------
 
-    def _extent(self, layer: Layer) -> TileSet:
+    def extent(self, layer: Layer) -> TileSet:
         """Tiles where a layer can change the composite at all."""
         if isinstance(layer, PaintLayer) and layer.pixels is not None:
             return layer.pixels.present()
@@ -369,8 +369,8 @@ class Document:
         if self._regroups(layer):
             dirty = self._restructured()
         else:
-            tiles = self._extent(layer) if self.shows(layer) else self.layout.no_tiles()
-            dirty = self._compositor.output_changed(index, tiles)
+            tiles = self.extent(layer) if self.shows(layer) else self.layout.no_tiles()
+            dirty = self._compositor.output_changed(index, tiles, touched_by(layer, self.schema))
         self.events.layers.emit("insert", layer.id, index)
         self._emit_dirty(dirty)
         return index
@@ -386,8 +386,8 @@ class Document:
         if self._regroups(layer):
             dirty = self._restructured()
         else:
-            tiles = self._extent(layer) if shown else self.layout.no_tiles()
-            dirty = self._compositor.input_changed(index, tiles)
+            tiles = self.extent(layer) if shown else self.layout.no_tiles()
+            dirty = self._compositor.input_changed(index, tiles, touched_by(layer, self.schema))
         self.events.layers.emit("remove", layer_id, index)
         self._emit_dirty(dirty)
         return layer, index
@@ -401,12 +401,14 @@ class Document:
             return old
         layer = self.layers.pop(old)
         self.layers.insert(index, layer)
+        self._compositor.generated.pop(layer_id, None)  # other layers are below it now
         if self._regroups(layer):
             dirty = self._restructured()
         else:
             # every composite from the lower position up differs where the layer acts
-            tiles = self._extent(layer) if self.shows(layer) else self.layout.no_tiles()
-            dirty = self._compositor.input_changed(min(old, index), tiles)
+            tiles = self.extent(layer) if self.shows(layer) else self.layout.no_tiles()
+            touched = touched_by(layer, self.schema)
+            dirty = self._compositor.input_changed(min(old, index), tiles, touched)
         self.events.layers.emit("move", layer_id, index)
         self._emit_dirty(dirty)
         return old
@@ -425,10 +427,10 @@ class Document:
             # membership and a group's visibility change what its members show
             self._emit_dirty(self._restructured())
         elif name != "name":
-            if isinstance(layer, FilterLayer):
+            if isinstance(layer, FilterLayer) or name == "mask_generator":
                 self._compositor.drop_checkpoint(layer_id)
             if was_shown or self.shows(layer):
-                self._emit_dirty(self._compositor.output_changed(index, self._extent(layer)))
+                self._emit_dirty(self._compositor.output_changed(index, self.extent(layer)))
         self.events.layer.emit(layer_id, name)
         return old
 
@@ -441,7 +443,8 @@ class Document:
         old = layer.mask
         layer.mask = mask
         if self.shows(layer):
-            self._emit_dirty(self._compositor.output_changed(index, self._extent(layer)))
+            touched = touched_by(layer, self.schema)
+            self._emit_dirty(self._compositor.output_changed(index, self.extent(layer), touched))
         self.events.layer.emit(layer_id, "mask")
         return old
 
@@ -470,10 +473,11 @@ class Document:
 
             if get_blend_mode(layer.blend).uses_mean:
                 # the layer's mean moved: everything it covers moves with it
-                tiles = tiles | self._extent(layer)
+                tiles = tiles | self.extent(layer)
         elif isinstance(layer, PaintLayer):
-            tiles = tiles & self._extent(layer)  # no coverage, nothing to mask
-        self._emit_dirty(self._compositor.output_changed(index, tiles))
+            tiles = tiles & self.extent(layer)  # no coverage, nothing to mask
+        touched = touched_by(layer, self.schema)
+        self._emit_dirty(self._compositor.output_changed(index, tiles, touched))
 
     # -- outputs -----------------------------------------------------------
 
@@ -499,6 +503,11 @@ class Document:
         A new array.
         """
         return self._compositor.read(self.index_of(layer_id) + 1, rect, "wrap")
+
+    def generated_mask(self, layer_id: int) -> np.ndarray | None:
+        """The mask ``(H, W)`` a layer's mask generator makes of the material below it, as
+        the flatten uses it (recomputed only after a change below); None: not generated."""
+        return self._compositor.mask_of(self.index_of(layer_id))
 
     def flatten(self, *, copy: bool = True) -> EditMaterial:
         """The flattened document as an :class:`EditMaterial`."""
@@ -575,17 +584,18 @@ class Document:
         compositor.doc = self
         self._compositor = compositor
 
-    def stale_global_filters(self) -> list[FilterLayer]:
-        """Visible whole-image filter layers the next flatten must recompute.
+    def stale_global_layers(self) -> list[Layer]:
+        """Visible layers reading the whole image that the next flatten must recompute.
 
         A filter reading the whole image (bilateral, detail, or one blended in
-        "detail" mode) recomputes all of it when anything below it changes:
-        the slow part of a flatten, worth moving off an interactive thread.
+        "detail" mode) recomputes all of it when anything below it changes, and
+        so does a generated mask (cavity, edge, AO) when the normals below
+        change: the slow part of a flatten, worth moving off an interactive thread.
         """
         compositor = self._compositor
         if compositor.top.valid.all():
             return []
-        stale = []
+        stale: list[Layer] = compositor.stale_masks()
         for layer in self.layers:
             if isinstance(layer, FilterLayer) and self.shows(layer):
                 if layer.reach(self.layout, self.schema) is None:

@@ -35,6 +35,7 @@ import numpy as np
 from ..errors import InvalidValue
 from ..material import Schema
 from ..ops import get_op
+from ..ops.generators import MaskGenerator
 from ..ops.spec import OpTarget, Reach, run_op
 from .blend import get_blend_mode, mean_of, weighted_mean
 from .filters import bind_filter
@@ -57,6 +58,9 @@ class Layer:
     #: one-channel tiled mask in [0, 1] (1 shows the layer), or None
     mask: TileGrid | None = None
     mask_inverted: bool = False
+    #: the mask is generated from the material below (recomputed when it changes;
+    #: the compositor keeps the result), times ``mask`` when the layer has both
+    mask_generator: MaskGenerator | None = None
     #: id of the group layer this layer belongs to, or None
     parent: int | None = None
 
@@ -100,13 +104,23 @@ class Layer:
         """Per-texel coverage over ``rect`` (None: 1 everywhere)."""
         return None
 
-    def alpha(self, rect: Rect, coverage: np.ndarray | None = None) -> np.ndarray:
-        """Weight of the layer per texel: coverage x mask x opacity, float32 in that order.
+    def alpha(
+        self,
+        rect: Rect,
+        coverage: np.ndarray | None = None,
+        generated: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """Weight of the layer per texel: coverage x generated x mask x opacity, float32.
 
         One function for the tiled and the whole-image flatten, so both round
-        alike. ``coverage`` saves re-reading it when the caller has it.
+        alike. ``coverage`` saves re-reading it when the caller has it;
+        ``generated`` is the whole generated mask ``(H, W)`` when the layer has
+        a :attr:`mask_generator` (the compositor computes it from the layers below).
         """
         weight = self.coverage(rect) if coverage is None else coverage
+        if generated is not None:
+            shown = generated[rect.slices]
+            weight = shown if weight is None else weight * shown
         if self.mask is not None:
             shown = self.mask.read(rect)[..., 0]
             if self.mask_inverted:
@@ -127,6 +141,7 @@ class Layer:
 
     def describe(self) -> dict[str, Any]:
         """Properties as plain values (for panels, tests and project files)."""
+        generator = self.mask_generator
         return {
             "kind": self.kind,
             "name": self.name,
@@ -136,6 +151,7 @@ class Layer:
             "parameters": self.parameters,
             "mask": self.mask is not None,
             "mask_inverted": self.mask_inverted,
+            "mask_generator": None if generator is None else generator.to_json(),
             "parent": self.parent,
         }
 

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import InvalidValue
 from ..material import Schema
+from ..ops.generators import MaskGenerator
 from ..ops.spec import parse_bool
 from .blend import get_blend_mode
 
@@ -90,6 +91,38 @@ def _layer_id(value: Any, schema: Schema) -> int | None:
     return int(value)
 
 
+def _generator(value: Any, schema: Schema) -> MaskGenerator | None:
+    """A mask generator (or its JSON form); None: the layer's mask is not generated."""
+    if value is None:
+        return None
+    generator = MaskGenerator.from_json(value)
+    if "normal" not in schema.names:
+        raise InvalidValue(
+            f"a {generator.kind} mask is generated from the normals; this material has none"
+        )
+    return generator
+
+
+def parse_generator(text: str) -> MaskGenerator | None:
+    """``cavity radius_px=6 contrast=2`` (or ``none``) as a generator (InvalidValue if not)."""
+    name, *pairs = text.split()
+    if name.lower() == "none" and not pairs:
+        return None
+    settings: dict[str, Any] = {"kind": name}
+    for pair in pairs:
+        key, sep, word = pair.partition("=")
+        if not sep:
+            raise InvalidValue(f"mask generator settings are KEY=VALUE, got {pair[:40]!r}")
+        try:
+            settings[key] = parse_bool(word) if key == "invert" else float(word)
+        except (ValueError, InvalidValue):
+            kind = "true or false" if key == "invert" else "a number"
+            raise InvalidValue(
+                f"mask generator {key[:40]} must be {kind}, got {word[:40]!r}"
+            ) from None
+    return MaskGenerator.from_json(settings)
+
+
 def _kept(value: Any, schema: Schema) -> Any:
     return value  # checked by the layer kind (it needs the layer)
 
@@ -133,6 +166,8 @@ class LayerProperty:
             raise InvalidValue(f"{self.name} is not set from text")
         try:
             return self.parse(text.strip())
+        except InvalidValue:
+            raise
         except ValueError:
             raise InvalidValue(f"{self.name} must be {self.kind}, got {text!r}") from None
 
@@ -170,6 +205,15 @@ PROPERTIES: dict[str, LayerProperty] = {
             _ALL,
             _bool("mask_inverted"),
             parse_bool,
+        ),
+        LayerProperty(
+            "mask_generator",
+            "a generator and its settings (cavity radius_px=6 contrast=2), or none",
+            "Generated mask",
+            _ALL,
+            _generator,
+            parse_generator,
+            mergeable=True,
         ),
         LayerProperty(
             "parent", "a group layer id, or none", "Set parent", _ALL, _layer_id, _parse_parent

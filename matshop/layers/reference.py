@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .blend import get_blend_mode, mean_of, weighted_mean
-from .compositor import blend_into, close_group, filter_by_tile
+from .compositor import blend_into, close_group, filter_by_tile, generated_mask
 from .layer import FillLayer, FilterLayer, GroupLayer, PaintLayer
 
 if TYPE_CHECKING:
@@ -38,8 +38,13 @@ def flatten_reference(doc: Document) -> np.ndarray:
     for index, layer in enumerate(doc.layers):
         for group_index in starts.get(index, ()):
             group_inputs[group_index] = image.copy()
+        # a generated mask is made of the whole composite below, as it stands here
+        shown = doc.shows(layer) or isinstance(layer, GroupLayer)
+        generated = None
+        if shown and layer.mask_generator is not None:
+            generated = generated_mask(layer, schema, image)
         if isinstance(layer, GroupLayer):
-            close_group(doc, layer, group_inputs.pop(index), image, bounds)
+            close_group(doc, layer, group_inputs.pop(index), image, bounds, generated)
             continue
         if not doc.shows(layer):
             continue
@@ -52,14 +57,14 @@ def flatten_reference(doc: Document) -> np.ndarray:
             else:
                 values = layer.run(image, schema)
             mean = mean_of(*weighted_mean(values)) if uses_mean else None
-            alpha = layer.alpha(bounds)
+            alpha = layer.alpha(bounds, generated=generated)
         elif isinstance(layer, PaintLayer):
             values, coverage = layer.values(bounds)
-            alpha = layer.alpha(bounds, coverage)
+            alpha = layer.alpha(bounds, coverage, generated)
             mean = layer.mean() if uses_mean else None
         elif isinstance(layer, FillLayer):
             values = layer.content(bounds)
-            alpha = layer.alpha(bounds)
+            alpha = layer.alpha(bounds, generated=generated)
             mean = layer.mean() if uses_mean else None
         else:  # pragma: no cover
             raise TypeError(f"cannot flatten a {type(layer).__name__}")

@@ -21,6 +21,10 @@ widths, the unit of :func:`matshop.spaces.frame.height_to_normal`.
 
 from __future__ import annotations
 
+import math
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
 import numpy as np
 
 from ..errors import InvalidValue
@@ -141,3 +145,77 @@ def generate_mask(
         raw = np.clip(side / scale, 0.0, 1.0) if scale > 0 else side
     shaped = shape_mask(raw, level=level, contrast=contrast, blur_px=blur_px, invert=invert)
     return shaped.astype(np.float32)
+
+
+@dataclass(frozen=True)
+class MaskGenerator:
+    """A generated mask as a layer keeps it: the generator and its settings, not pixels.
+
+    A layer holding one shows :meth:`run` on the normals of the material below
+    it, recomputed whenever that changes (:mod:`matshop.layers.compositor`).
+    The height integration is global (every texel's height depends on every
+    normal) and so is the percentile scaling, so a change anywhere below
+    changes the whole mask: its reach is the whole image.
+    """
+
+    kind: str = "cavity"
+    radius_px: float = 4.0
+    level: float = 0.5
+    contrast: float = 1.0
+    blur_px: float = 0.0
+    invert: bool = False
+
+    def __post_init__(self) -> None:
+        if self.kind not in GENERATORS:
+            raise InvalidValue(
+                f"unknown mask generator {str(self.kind)[:40]!r} (known: {', '.join(GENERATORS)})"
+            )
+        for name in ("radius_px", "level", "contrast", "blur_px"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+                raise InvalidValue(f"mask generator {name} must be a number, got {value!r}")
+            if not math.isfinite(value):
+                raise InvalidValue(f"mask generator {name} must be finite, got {value!r}")
+            object.__setattr__(self, name, float(value))
+        if not isinstance(self.invert, bool | np.bool_):
+            raise InvalidValue(f"mask generator invert must be true or false, got {self.invert!r}")
+        object.__setattr__(self, "invert", bool(self.invert))
+        for name, (lo, hi) in BOUNDS.items():
+            value = getattr(self, name)
+            low_ok = value > lo if name == "radius_px" else value >= lo
+            if not (low_ok and value <= hi):
+                opening = "(" if name == "radius_px" else "["
+                raise InvalidValue(f"{name} must be in {opening}{lo:g}, {hi:g}], got {value:g}")
+
+    def run(self, normals: np.ndarray) -> np.ndarray:
+        """The mask ``(H, W)`` float32 of unit OpenGL ``normals`` ``(H, W, 3)``."""
+        settings = self.to_json()
+        return generate_mask(normals, settings.pop("kind"), **settings)
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_json(cls, data: Any) -> MaskGenerator:
+        """From :meth:`to_json`'s form (a project file, the CLI); InvalidValue if wrong."""
+        if isinstance(data, MaskGenerator):
+            return data
+        if not isinstance(data, dict):
+            raise InvalidValue(f"a mask generator is an object with a kind, got {data!r}")
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(str(k)[:40] for k in set(data) - known)
+        if unknown:
+            raise InvalidValue(
+                f"mask generator has unknown setting(s) {', '.join(unknown)} "
+                f"(known: {', '.join(sorted(known))})"
+            )
+        return cls(**data)
+
+
+#: hard ranges of the settings (radius open at 0); the panel's sliders use them too
+BOUNDS: dict[str, tuple[float, float]] = {
+    "radius_px": (0.0, 256.0),
+    "level": (0.0, 1.0),
+    "contrast": (0.0, 64.0),
+    "blur_px": (0.0, 256.0),
+}

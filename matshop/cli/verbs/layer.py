@@ -12,8 +12,7 @@ from ...errors import MatshopError, naming
 from ...io.project import save_project
 from ...layers import AddLayer, Document, History, RemoveLayer, SetMask, SetProperty
 from ...layers.layer import PaintLayer
-from ...layers.properties import PROPERTIES
-from ...ops.spec import parse_bool
+from ...layers.properties import PROPERTIES, parse_generator
 from ...paint import Swatch
 from ..project import about_project, find_layer, names, open_project
 
@@ -87,9 +86,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--mask-generator",
         nargs="+",
         metavar=("NAME", "KEY=VALUE"),
-        help="a mask generated from the material's normals as they are when the layer is "
-        "added: cavity, edge or ao, with radius_px (4), level (0.5), contrast (1), "
-        "blur_px (0), invert (false); e.g. --mask-generator cavity radius_px=6 contrast=2",
+        help="a mask generated from the normals of the material below the layer, kept up "
+        "to date as the layers below change: cavity, edge or ao, with radius_px (4), "
+        "level (0.5), contrast (1), blur_px (0), invert (false); e.g. --mask-generator "
+        "cavity radius_px=6 contrast=2 (change it later with layer set ... "
+        "'mask_generator=edge radius_px=3', or mask_generator=none)",
     )
     add.set_defaults(run=cmd_layer_add)
 
@@ -159,6 +160,17 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
             props[key] = getattr(args, key)
     if args.hidden:
         props["visible"] = False
+    if getattr(args, "mask_generator", None):
+        if args.mask is not None:
+            raise MatshopError("give --mask or --mask-generator, not both")
+        if "normal" not in doc.schema.names:
+            raise MatshopError(
+                f"--mask-generator {args.mask_generator[0][:40]} needs a normal map; "
+                "the project has none",
+                args.project,
+            )
+        with naming(what="--mask-generator"):
+            props["mask_generator"] = parse_generator(" ".join(args.mask_generator))
     parameters = names(args.params)
     image = args.kind == "image"
     misplaced = {
@@ -213,18 +225,11 @@ def cmd_layer_add(args: argparse.Namespace) -> int:
         index = doc.index_of(group.id)  # members sit just below their group
     if index is not None and not 0 <= index <= len(doc):
         raise MatshopError(f"--index must be 0 to {len(doc)}", args.project)
-    generated = None
-    if getattr(args, "mask_generator", None):
-        if args.mask is not None:
-            raise MatshopError("give --mask or --mask-generator, not both")
-        generated = _generated_mask(doc, args.mask_generator, args.project)
     history.push(AddLayer(layer, index))
     if args.mask is not None:
         from ...api import load_mask
 
         history.push(SetMask(layer.id, doc.new_mask(array=load_mask(args.mask, doc.size))))
-    if generated is not None:
-        history.push(SetMask(layer.id, doc.new_mask(array=generated[..., None])))
     save_project(doc, args.project, settings=settings)
     print(f"added {layer.kind} layer {layer.id} {layer.name!r}")
     return 0
@@ -291,46 +296,6 @@ def _image_as_mask(
         print(note)
     print(f"masked layer {layer.id} {layer.name!r} with {args.file.name}")
     return 0
-
-
-_GENERATOR_OPTIONS = {
-    "radius_px": float,
-    "level": float,
-    "contrast": float,
-    "blur_px": float,
-    "invert": parse_bool,
-}
-
-
-def _generated_mask(doc: Document, words: Sequence[str], project: Path) -> np.ndarray:
-    """The --mask-generator mask (H, W) from the document's normals as they are now."""
-    from ...ops.generators import GENERATORS, generate_mask
-
-    name, *pairs = words
-    if name not in GENERATORS:
-        raise MatshopError(f"--mask-generator must be one of {', '.join(GENERATORS)}, got {name!r}")
-    if "normal" not in doc.schema.names:
-        raise MatshopError(
-            f"--mask-generator {name} needs a normal map; the project has none", project
-        )
-    options = {}
-    for pair in pairs:
-        key, sep, text = pair.partition("=")
-        if not sep or key not in _GENERATOR_OPTIONS:
-            raise MatshopError(
-                f"--mask-generator takes {', '.join(f'{k}=...' for k in _GENERATOR_OPTIONS)}, "
-                f"got {pair!r}"
-            )
-        try:
-            options[key] = _GENERATOR_OPTIONS[key](text)
-        except ValueError:
-            kind = "true or false" if key == "invert" else "a number"
-            raise MatshopError(f"--mask-generator {key} must be {kind}, got {text!r}") from None
-        if key != "invert" and not np.isfinite(options[key]):
-            raise MatshopError(f"--mask-generator {key} must be finite, got {text!r}")
-    normals = doc.physical()["normal"][..., :3]
-    with naming(what="--mask-generator"):
-        return generate_mask(normals, name, **options)
 
 
 @about_project
