@@ -19,12 +19,12 @@ pytest.importorskip("pyqtgraph")
 
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from matshop.app.curve_points import CurvePoints  # noqa: E402
 from matshop.app.histogram import edit_histogram  # noqa: E402
 from matshop.app.testing import click, drag, shown_window  # noqa: E402
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import AddLayer, Document, FilterLayer, History  # noqa: E402
 from matshop.ops.curves import curve_lut  # noqa: E402
+from matshop.tools.curve_points import CurvePoints  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "resources" / "sample"

@@ -98,18 +98,21 @@ def test_dabs_are_spaced_evenly_and_do_not_depend_on_event_batching() -> None:
     assert np.allclose(steps, 5.0)
 
 
-def test_pressure_scales_size_and_flow_through_their_curves() -> None:
+def test_pressure_scales_size_opacity_and_flow_through_their_curves() -> None:
     brush = Brush(
         radius_px=20,
         flow=0.8,
+        opacity=0.5,
         size_pressure=PressureCurve(((0, 0.25), (1, 1))),
-        opacity_pressure=PressureCurve(),
+        flow_pressure=PressureCurve(),
+        opacity_pressure=PressureCurve(((0, 0.5), (1, 1))),
     )
     stroker = Stroker(brush)
     dabs = stroker.add([StrokeSample(0, 0, 0.0), StrokeSample(200, 0, 1.0)])
     assert dabs[0].radius_px == pytest.approx(5.0, abs=1e-3)
     assert dabs[0].flow == pytest.approx(0.0, abs=1e-6)
-    assert dabs[-1].radius_px > 19 and dabs[-1].flow > 0.75
+    assert dabs[0].opacity == pytest.approx(0.25, abs=1e-6)
+    assert dabs[-1].radius_px > 19 and dabs[-1].flow > 0.75 and dabs[-1].opacity > 0.49
     # spacing follows the size: dabs are denser where the brush is small
     gaps = np.diff([d.x for d in dabs])
     assert gaps[0] < gaps[-1]

@@ -1,4 +1,5 @@
-"""The properties panel: the active layer's settings, built from the op's declaration.
+"""The properties panel: the active layer's settings, built from the op's declaration,
+and its generated mask (:mod:`.generator_panel`).
 
 A filter layer's controls come from its :class:`~matshop.ops.ParamSpec` s
 (kind, default, UI range, choices, doc), never from code per op, so a new
@@ -26,6 +27,7 @@ from ..errors import MatshopError
 from ..layers import FillLayer, FilterLayer, Layer, PaintLayer
 from ..ops import ParamSpec, get_op
 from ..tools.widgets import FloatSlider
+from .generator_panel import GeneratorPanel
 from .layer_commands import LayerCommands
 from .session import DocumentSession
 
@@ -54,6 +56,8 @@ class PropertiesPanel(QWidget):
         outer.addWidget(self.title)
         outer.addWidget(self.summary)
         outer.addWidget(self.form_host)
+        self.generator = GeneratorPanel(session, commands)
+        outer.addWidget(self.generator)
         outer.addStretch(1)
         #: parameter name -> function showing a value without emitting
         self.setters: dict[str, Any] = {}
@@ -79,6 +83,7 @@ class PropertiesPanel(QWidget):
         if layer is not None:
             self.title.setText(layer.name)
             self.summary.setText(_summary(layer))
+        self.generator.refresh()
 
     def _build(self, layer: Layer | None) -> None:
         while self.form.rowCount():
@@ -185,6 +190,8 @@ def _quiet(setter):
 def _summary(layer: Layer) -> str:
     shows = "all parameters" if layer.parameters is None else ", ".join(layer.parameters)
     base = f"{layer.blend} blend, {layer.opacity:.0%} opacity, affects {shows}"
+    if layer.mask_generator is not None:
+        base += f", {layer.mask_generator.kind} mask"
     if isinstance(layer, FilterLayer):
         spec = get_op(layer.op)
         linear = "linear" if spec.linear else "not linear"

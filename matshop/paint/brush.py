@@ -29,8 +29,9 @@ class Brush:
         build up past it (Krita's and Photoshop's stroke opacity).
     flow : float
         Strength of each dab within the stroke; low flow builds up.
-    size_pressure, opacity_pressure : PressureCurve
-        Pressure -> factor on the radius and on each dab's flow.
+    size_pressure, opacity_pressure, flow_pressure : PressureCurve
+        Pressure -> factor on the radius, on the opacity a dab builds the
+        stroke up to, and on each dab's flow. ``CONSTANT`` switches a target off.
     """
 
     radius_px: float = 16.0
@@ -40,6 +41,7 @@ class Brush:
     flow: float = 1.0
     size_pressure: PressureCurve = field(default_factory=PressureCurve)
     opacity_pressure: PressureCurve = field(default_factory=lambda: PressureCurve(CONSTANT))
+    flow_pressure: PressureCurve = field(default_factory=lambda: PressureCurve(CONSTANT))
 
     def __post_init__(self) -> None:
         checks = {
@@ -58,7 +60,15 @@ class Brush:
         return max(self.radius_px * self.size_pressure(pressure), 0.5)
 
     def flow_at(self, pressure: float) -> float:
-        return self.flow * self.opacity_pressure(pressure)
+        return self.flow * self.flow_pressure(pressure)
+
+    def opacity_at(self, pressure: float) -> float:
+        """The most the stroke covers where a dab at this pressure lands."""
+        return self.opacity * self.opacity_pressure(pressure)
+
+    @property
+    def opacity_follows_pressure(self) -> bool:
+        return self.opacity_pressure.points != CONSTANT
 
     def step_at(self, pressure: float) -> float:
         """Distance to the next dab, in texels."""

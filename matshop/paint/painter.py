@@ -6,7 +6,11 @@ clone stamp, of the values it picked up), Krita's "wash" mode: each dab adds
 over the layer *as it was before the stroke* with weight ``opacity * S``. So
 overlapping dabs build up towards ``opacity`` and never past it, low flow
 builds up softly, and a stroke is an ordinary alpha composite in edit space:
-one stroke paints every parameter of the swatch at once, predictably.
+one stroke paints every parameter of the swatch at once, predictably. When pen
+pressure drives the opacity, each dab has its own: the stroke keeps its weight
+``W`` too and a dab of opacity ``o`` moves it toward ``o`` by the dab's alpha,
+never down (Krita's "alpha darken"): a light touch after a firm one leaves the
+firm one's paint, and with one opacity ``W`` is ``opacity * S`` again.
 
 Dabs that cross the image edge wrap to the other side (tiling textures) unless
 ``wrap=False``. Samples and dab centres are continuous texel coordinates.
@@ -156,9 +160,11 @@ class StrokeSession:
             self._values, self._channels = swatch.edit_values(doc.schema)
         self._layer_id = layer_id = layer.id
         self._offset = (int(round(clone_offset[0])), int(round(clone_offset[1])))
-        # the stroke's own accumulation: picked-up values (clone) and alpha S
-        carried = doc.channels if mode == "clone" else 0
-        self._buffer = TileGrid(doc.layout, carried + 1, 0.0)
+        # the stroke's own accumulation: picked-up values (clone), weight W (when the
+        # opacity follows pressure) and alpha S, in that order
+        self._carried = carried = doc.channels if mode == "clone" else 0
+        self._darken = brush.opacity_follows_pressure
+        self._buffer = TileGrid(doc.layout, carried + 1 + self._darken, 0.0)
         self._stroker = Stroker(brush)
         default = {"paint": "Paint", "erase": "Erase", "clone": "Clone stamp"}[mode]
         if target == "mask":
@@ -185,14 +191,15 @@ class StrokeSession:
         for x, y, alpha in images:
             height, width = alpha.shape
             for rect, where in footprint_pieces(x, y, height, width, doc, self.wrap):
-                self.stamp_alpha(rect, np.float32(dab.flow) * alpha[where])
+                self.stamp_alpha(rect, np.float32(dab.flow) * alpha[where], dab.opacity)
         self.dabs += 1
 
-    def stamp_alpha(self, rect: Rect, alpha: np.ndarray) -> None:
+    def stamp_alpha(self, rect: Rect, alpha: np.ndarray, opacity: float | None = None) -> None:
         """Add one dab's alpha ``(h, w)`` over ``rect`` (inside the image) to the stroke.
 
-        :meth:`add` places round dabs in texture space; painting on a mesh
-        computes its own footprints (a ball on the surface) and stamps them here.
+        ``opacity`` is the dab's (default: the brush's). :meth:`add` places round
+        dabs in texture space; painting on a mesh computes its own footprints (a
+        ball on the surface) and stamps them here.
         """
         block = self._buffer.read(rect)
         stroke_alpha = block[..., -1]
@@ -200,16 +207,22 @@ class StrokeSession:
         if self.mode == "clone":
             source = self.doc.composite_through(self._layer_id, rect.translate(*self._offset))
             share = np.divide(alpha, new_alpha, out=np.zeros_like(alpha), where=new_alpha > 0)
-            values = block[..., :-1]
+            values = block[..., : self._carried]
             values += share[..., None] * (source - values)
         block[..., -1] = new_alpha
+        if self._darken:
+            held = block[..., -2]
+            dab_opacity = np.float32(self.brush.opacity if opacity is None else opacity)
+            weight = held + alpha * np.maximum(dab_opacity - held, np.float32(0.0))
+            block[..., -2] = weight
+        else:
+            weight = np.float32(self.brush.opacity) * new_alpha
         self._buffer.write(rect, block)
-        weight = np.float32(self.brush.opacity) * new_alpha
         tx = self._transaction
         if self.mode == "erase" and self.target == "pixels":
             tx.erase(rect, weight, over_original=True)
         elif self.mode == "clone":
-            tx.paint(rect, block[..., :-1], weight, over_original=True)
+            tx.paint(rect, block[..., : self._carried], weight, over_original=True)
         else:
             tx.paint(rect, self._values, weight, channels=self._channels, over_original=True)
 

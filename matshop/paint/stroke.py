@@ -33,6 +33,8 @@ class Dab:
     y: float
     radius_px: float
     flow: float
+    #: the most the stroke may cover where this dab lands (the brush's opacity x pressure)
+    opacity: float = 1.0
 
 
 class Stroker:
@@ -51,7 +53,9 @@ class Stroker:
 
     def _dab(self, x: float, y: float, pressure: float) -> Dab:
         brush = self.brush
-        return Dab(x, y, brush.radius_at(pressure), brush.flow_at(pressure))
+        return Dab(
+            x, y, brush.radius_at(pressure), brush.flow_at(pressure), brush.opacity_at(pressure)
+        )
 
     def add(self, samples: Iterable[StrokeSample]) -> list[Dab]:
         dabs: list[Dab] = []

@@ -8,7 +8,9 @@
        "target": "pixels",            # pixels | mask
        "brush": {"radius_px": 24, "hardness": 0.8, "spacing": 0.1,
                  "opacity": 1, "flow": 1,
-                 "size_pressure": [[0, 0.2], [1, 1]]},
+                 "size_pressure": [[0, 0.2], [1, 1]],    # pen pressure -> factor (PCHIP)
+                 "opacity_pressure": [[0, 0], [1, 1]],   # each one switched on by giving it
+                 "flow_pressure": [[0, 0.5], [1, 1]]},
        "swatch": {"name": "bronze", "values": {"base_color": [0.45, 0.25, 0.08],
                                                 "roughness": [0.3]}},
        "mask_value": 1.0, "clone_offset": [-30, 12], "wrap": true,
@@ -43,6 +45,7 @@ MAX_COORD_PX = float(1 << 20)
 #: a stroke across a 65536-texel document at the finest spacing fits (~160 us a dab)
 MAX_DABS = 250_000
 _BRUSH_NUMBERS = ("radius_px", "hardness", "spacing", "opacity", "flow")
+_PRESSURE_CURVES = ("size_pressure", "opacity_pressure", "flow_pressure")
 _STROKE_KEYS = {
     "layer",
     "mode",
@@ -75,18 +78,14 @@ def _brush(data: Any) -> Brush:
         return Brush()
     if not isinstance(data, dict):
         raise InvalidValue("brush must be an object")
-    unknown = set(data) - {*_BRUSH_NUMBERS, "size_pressure", "opacity_pressure"}
+    unknown = set(data) - {*_BRUSH_NUMBERS, *_PRESSURE_CURVES}
     if unknown:
         raise InvalidValue(f"brush has unknown setting(s) {', '.join(sorted(unknown))}")
     numbers = {}
     for key in _BRUSH_NUMBERS:
         if key in data:
             numbers[key] = _number(data[key], f"brush {key}")
-    curves = {
-        key: PressureCurve.from_points(data[key])
-        for key in ("size_pressure", "opacity_pressure")
-        if key in data
-    }
+    curves = {key: PressureCurve.from_points(data[key]) for key in _PRESSURE_CURVES if key in data}
     return Brush(**numbers, **curves)
 
 

@@ -17,7 +17,8 @@ from PySide6.QtCore import QObject, Signal
 from ..errors import InvalidValue
 from ..layers import Document, Rect
 from ..material import PARAMETER_KINDS
-from ..paint import Brush, Swatch, Symmetry
+from ..paint import Brush, PressureCurve, Swatch, Symmetry
+from ..paint.pressure import CONSTANT, LINEAR
 
 
 def short_label(parameter: str) -> str:
@@ -48,6 +49,13 @@ BRUSH_SETTINGS: tuple[Setting, ...] = (
     Setting("flow", "Flow", 0.01, 1.0, 1.0, tip="Strength of each dab (low flow builds up)"),
 )
 
+#: what pen pressure may drive, the brush's curve for each, and whether it does by default
+PRESSURE_TARGETS: dict[str, tuple[str, bool]] = {
+    "size": ("size_pressure", True),
+    "opacity": ("opacity_pressure", False),
+    "flow": ("flow_pressure", False),
+}
+
 
 class BrushSettings(QObject):
     """Size, hardness, spacing, opacity and flow of the painting tools, and their symmetry."""
@@ -59,6 +67,22 @@ class BrushSettings(QObject):
         self.values = {s.name: s.default for s in BRUSH_SETTINGS}
         #: mirror strokes of the brush and eraser about the texture's centre lines
         self.symmetry = Symmetry()
+        #: the pen's pressure curve, and which of size, opacity and flow it drives
+        self.pressure_curve = PressureCurve(LINEAR)
+        self.pressure_targets = {name: on for name, (_, on) in PRESSURE_TARGETS.items()}
+
+    def set_pressure_curve(self, points) -> None:
+        """A new pressure curve through ``points`` (checked like any :class:`PressureCurve`)."""
+        curve = PressureCurve.from_points(points)
+        if curve != self.pressure_curve:
+            self.pressure_curve = curve
+            self.changed.emit()
+
+    def set_pressure_target(self, target: str, on: bool) -> None:
+        """Pen pressure drives ``target`` (size, opacity or flow) through the curve, or not."""
+        if self.pressure_targets[target] != bool(on):
+            self.pressure_targets[target] = bool(on)
+            self.changed.emit()
 
     def set_mirror(self, axis: str, on: bool) -> None:
         """Mirror across ``axis`` (``"x"``: left/right, ``"y"``: top/bottom) or not."""
@@ -75,7 +99,12 @@ class BrushSettings(QObject):
             self.changed.emit()
 
     def brush(self) -> Brush:
-        return Brush(**self.values)
+        constant = PressureCurve(CONSTANT)
+        curves = {
+            field: self.pressure_curve if self.pressure_targets[target] else constant
+            for target, (field, _) in PRESSURE_TARGETS.items()
+        }
+        return Brush(**self.values, **curves)
 
     def set(self, name: str, value: float) -> None:
         spec = next(s for s in BRUSH_SETTINGS if s.name == name)
@@ -92,6 +121,10 @@ class BrushSettings(QObject):
         data: dict[str, Any] = {**self.values, "symmetry": self.symmetry.name}
         if self.symmetry.centre is not None:
             data["symmetry_centre"] = list(self.symmetry.centre)
+        data["pressure"] = {
+            "curve": [list(p) for p in self.pressure_curve.points],
+            **self.pressure_targets,
+        }
         return data
 
     def load_json(self, data: Any) -> None:
@@ -105,6 +138,15 @@ class BrushSettings(QObject):
             except (InvalidValue, TypeError, ValueError):  # older or hand-edited: no mirror
                 symmetry = Symmetry()
             self._set_symmetry(symmetry)
+            pressure = data.get("pressure")
+            if isinstance(pressure, dict):  # older projects: the defaults stay
+                try:
+                    self.set_pressure_curve(pressure.get("curve", LINEAR))
+                except (InvalidValue, TypeError, ValueError):
+                    pass  # a hand-edited curve that does not read: keep the one there is
+                for target in PRESSURE_TARGETS:
+                    if isinstance(pressure.get(target), bool):
+                        self.set_pressure_target(target, pressure[target])
 
 
 #: Physical defaults of a fresh swatch: a rusty iron a user can see on any material.

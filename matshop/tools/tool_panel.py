@@ -1,4 +1,5 @@
-"""The tool panel: brush sliders, the mirror toggles and the swatch editor.
+"""The tool panel: brush sliders, the mirror toggles, the pen's pressure curve and the
+swatch editor.
 
 The swatch editor has one row per parameter of the document: a check box
 (does the brush paint it?) and an editor suited to the parameter: a color
@@ -28,7 +29,9 @@ from PySide6.QtWidgets import (
 )
 
 from ..material import Parameter, Schema
-from .settings import BRUSH_SETTINGS, BrushSettings, SwatchModel, short_label
+from .curve_editor import CurveEditor
+from .curve_points import CurvePoints
+from .settings import BRUSH_SETTINGS, PRESSURE_TARGETS, BrushSettings, SwatchModel, short_label
 from .swatch_library_panel import SwatchLibraryPanel
 from .widgets import (
     ColorButton,
@@ -49,8 +52,56 @@ def _ask_color(initial: QColor, parent: QWidget) -> QColor | None:
     return color if color.isValid() else None
 
 
+class PressurePanel(QWidget):
+    """What pen pressure drives (size, opacity, flow check boxes) and its curve.
+
+    The curve is edited like the curves dialog's (click adds a point, drag moves
+    one, double-click or dragging it off removes it); x is the pen's pressure, y
+    the factor on each checked setting. A mouse presses at full pressure.
+    """
+
+    def __init__(self, settings: BrushSettings, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.settings = settings
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 4, 0, 0)
+        layout.setSpacing(2)
+        heading = QLabel("Pen pressure drives:")
+        heading.setToolTip("A tablet pen's pressure drives the checked settings through the curve")
+        layout.addWidget(heading)
+        row = QHBoxLayout()
+        self.targets: dict[str, QCheckBox] = {}
+        for target in PRESSURE_TARGETS:
+            check = QCheckBox(target.capitalize())
+            check.setToolTip(f"Pen pressure scales the brush's {target} by the curve")
+            check.toggled.connect(lambda on, t=target: settings.set_pressure_target(t, on))
+            row.addWidget(check)
+            self.targets[target] = check
+        row.addStretch(1)
+        layout.addLayout(row)
+        self.model = CurvePoints(settings.pressure_curve.points)
+        self.editor = CurveEditor(self.model, diagonal=False)
+        self.editor.setToolTip("Pressure (x) to factor (y)")
+        self.editor.setFixedHeight(150)
+        self.model.changed.connect(lambda: settings.set_pressure_curve(self.model.points))
+        layout.addWidget(self.editor)
+        settings.changed.connect(self._sync)
+        self._sync()
+
+    def _sync(self) -> None:
+        for target, check in self.targets.items():
+            check.blockSignals(True)
+            check.setChecked(self.settings.pressure_targets[target])
+            check.blockSignals(False)
+        points = self.settings.pressure_curve.points
+        if points != self.model.points and self.model.dragging is None:
+            self.model.set_points(points)
+            self.editor.view.redraw()
+
+
 class BrushPanel(QGroupBox):
-    """Size, hardness, spacing, opacity and flow sliders; mirror X / Y check boxes."""
+    """Size, hardness, spacing, opacity and flow sliders; mirror X / Y check boxes; the
+    pen pressure's targets and curve."""
 
     def __init__(self, settings: BrushSettings, parent: QWidget | None = None) -> None:
         super().__init__("Brush", parent)
@@ -87,6 +138,8 @@ class BrushPanel(QGroupBox):
         layout.addLayout(self._build_centre())
         #: the document's size in texels (the centre's range and where "middle" is)
         self._extent = (0, 0)
+        self.pressure = PressurePanel(settings)
+        layout.addWidget(self.pressure)
         settings.changed.connect(self._sync)
 
     def _build_centre(self) -> QHBoxLayout:

@@ -117,7 +117,7 @@ class SurfaceStroke(StrokeSession):
                 tile.y0 + int(rows[-1]) + 1,
             )
             block = alpha[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
-            self.stamp_alpha(rect, flow * block.astype(np.float32))
+            self.stamp_alpha(rect, flow * block.astype(np.float32), brush.opacity_at(pressure))
         self.dabs += 1
 
 
