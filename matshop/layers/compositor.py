@@ -475,4 +475,5 @@ class Compositor:
 
     def nbytes(self) -> int:
         caches = (self.top, self.physical, *self.checkpoints.values())
-        return sum(cache.nbytes for cache in caches)
+        masks = sum(mask.nbytes for mask in self.generated.values())
+        return sum(cache.nbytes for cache in caches) + masks
