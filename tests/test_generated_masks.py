@@ -219,3 +219,25 @@ def test_the_command_line_keeps_the_mask_live(tmp_path: Path) -> None:
     assert project.read_bytes() == before
     assert main(["layer", "set", str(project), "Dirt", "mask_generator=none"]) == 0
     assert load_project(project).document.layers[-1].mask_generator is None
+
+
+@pytest.mark.parametrize(
+    "stored",
+    ["cavity", {"kind": "dirt"}, {"kind": "ao", "radius_px": "big"}, {"kind": "ao", "x": 1}],
+)
+def test_a_bad_stored_generator_is_refused_naming_the_layer(tmp_path: Path, stored) -> None:
+    from matshop.errors import MatshopError
+
+    doc, history, paint, dirt = make_doc()
+    path = tmp_path / "bad.matshop"
+    save_project(doc, path)
+    with zipfile.ZipFile(path) as archive:
+        members = {name: archive.read(name) for name in archive.namelist()}
+    manifest = json.loads(members["manifest.json"])
+    manifest["layers"][-1]["mask_generator"] = stored
+    members["manifest.json"] = json.dumps(manifest).encode()
+    with zipfile.ZipFile(path, "w") as archive:
+        for name, data in members.items():
+            archive.writestr(name, data)
+    with pytest.raises(MatshopError, match="dirt.*mask_generator"):
+        load_project(path)
