@@ -142,9 +142,16 @@ class EditableMaterial:
         *,
         overwrite: bool = False,
         progress: ProgressCallback | None = None,
+        png_level: int | None = None,
     ) -> list[Path]:
-        """Write the physical maps into ``out_dir``; returns the files written."""
-        return save_material(self.physical(), out_dir, overwrite=overwrite, progress=progress)
+        """Write the physical maps into ``out_dir``; returns the files written.
+
+        ``png_level``: zlib level of the PNGs, 0-9 (default
+        :data:`~matshop.io.images.PNG_LEVEL`).
+        """
+        return save_material(
+            self.physical(), out_dir, overwrite=overwrite, progress=progress, png_level=png_level
+        )
 
 
 def open(path: PathLike, **load_options: Any) -> EditableMaterial:  # noqa: A001 - the API verb

@@ -4,7 +4,8 @@
   how every verb that reads a texture set reads it; :func:`load_options` turns
   them into the keyword arguments of :func:`matshop.io.material_io.load_material`.
 - output options (``OUT``, ``--force``): where a verb that writes files writes
-  them, and whether it may replace what is there.
+  them, and whether it may replace what is there; ``--png-level`` how hard its PNGs
+  are compressed.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import MatshopError
+from ..io.png_settings import PNG_LEVEL
 
 
 def add_load_options(parser: argparse.ArgumentParser) -> None:
@@ -90,6 +92,21 @@ def parse_maps(pairs: Sequence[str]) -> dict[str, Path | None]:
             )
         maps[slot.strip()] = Path(file) if file else None
     return maps
+
+
+def add_png_level_option(parser: argparse.ArgumentParser, *, default: str | None = None) -> None:
+    """``--png-level N``: the zlib level of the PNGs a verb writes (None: the writer's default).
+
+    ``default`` is the help's word for what happens without the option.
+    """
+    parser.add_argument(
+        "--png-level",
+        type=int,
+        choices=range(10),
+        metavar="N",
+        help=f"zlib level of PNG files, 0 (fastest, largest) to 9 (slowest, smallest); "
+        f"default: {default or PNG_LEVEL}",
+    )
 
 
 def add_output_options(

@@ -121,6 +121,7 @@ def export_material(
     mtlx_shader: str = "open_pbr_surface",
     seed: int = 0,
     progress: ProgressCallback | None = None,
+    png_level: int | None = None,
 ) -> ExportSummary:
     """Write ``material`` as ``preset`` says into ``out_dir``.
 
@@ -149,6 +150,8 @@ def export_material(
     usdz : also write ``<name>.usdz``, the ``.usda`` and its textures packaged
         (implies ``usd``).
     seed : dithering noise seed.
+    png_level : zlib level of the PNG textures, 0-9; None: the preset's ``pngLevel``,
+        else the writer's default.
     progress : called with (files written, files) before the first file and after each;
         an exception it raises (a cancel) stops the export between files and, like any
         failure, leaves the output folder as it was (no new folder, no partial files).
@@ -202,7 +205,7 @@ def export_material(
     written: list[WrittenFile] = []
     for output in outputs:
         file_name = texture_files[output.channel]
-        writer = _texture_writer(material, output, preset, seed, file_name, warnings)
+        writer = _texture_writer(material, output, preset, seed, file_name, warnings, png_level)
         pending.append(PendingFile(file_name, writer))
         written.append(WrittenFile(out / file_name, "texture", describe_output(output)))
     if glb:
@@ -261,6 +264,7 @@ def _texture_writer(
     seed: int,
     file_name: str,
     warnings: list[str],
+    png_level: int | None = None,
 ) -> Callable[[Path], None]:
     """The closure writing one texture; packing happens only when it runs
     (one output in memory at a time). Clipping is reported in ``warnings``."""
@@ -284,7 +288,8 @@ def _texture_writer(
         frames = {"normal", "tangent"} & set(output.sources)
         # the convention travels with the file, so reading it back never guesses
         attributes = {CONVENTION_ATTRIBUTE: preset.normal_convention} if frames else None
-        write_image(path, codes, bit_depth=output.bit_depth, attributes=attributes)
+        level = preset.png_level if png_level is None else png_level
+        write_image(path, codes, bit_depth=output.bit_depth, attributes=attributes, png_level=level)
 
     return write
 

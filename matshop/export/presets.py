@@ -37,6 +37,10 @@ reduction averages away whenever an export with the preset downsizes
 say ``false``: a sampled distribution cannot be widened yet, and the bundled
 sample has one, so ``true`` would refuse its downsized exports.
 
+``"pngLevel": N`` (0-9) is the zlib level of the preset's PNG files (default
+:data:`~matshop.io.png_settings.PNG_LEVEL`, chosen by measurement; 9 for the
+smallest files); the command line's ``--png-level`` overrides it.
+
 ``colorSpace`` applies to color parameters (base color, specular, emissive,
 diffuse): ``srgb`` or ``linear``; other parameters are data and always linear.
 Normals are encoded ``(n + 1) / 2`` in the preset's ``normalConvention``.
@@ -155,6 +159,8 @@ class Preset:
     origin: str  #: ``built-in`` or the file it came from
     #: widen the lobe by the normal variance a downsizing export removes
     keep_variance: bool = False
+    #: zlib level of the PNG files (None: the writer's default)
+    png_level: int | None = None
 
     def output(self, channel: str) -> OutputSpec:
         for out in self.outputs:
@@ -257,6 +263,7 @@ def _parse_preset(data: dict[str, Any], origin: str) -> Preset:
         tuple(outputs),
         origin,
         keep_variance=_flag(data, "keepVariance", False),
+        png_level=_png_level(data),
     )
 
 
@@ -305,6 +312,15 @@ def _parse_output(entry: dict[str, Any], default_template: str) -> OutputSpec:
         optional=_flag(entry, "optional", False),
         dithering=_flag(entry, "dithering", True),
     )
+
+
+def _png_level(data: dict[str, Any]) -> int | None:
+    value = data.get("pngLevel")
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 9:
+        raise InvalidValue(f"'pngLevel' must be a whole number 0 to 9, got {str(value)[:40]!r}")
+    return value
 
 
 def _flag(entry: dict[str, Any], key: str, default: bool) -> bool:

@@ -25,6 +25,7 @@ import OpenImageIO as oiio
 from matshop.errors import MatshopError
 from matshop.io.atomic import atomic_target
 from matshop.io.guard import check_input_file, check_text_name
+from matshop.io.png_settings import PNG_FILTER, PNG_FILTERS, PNG_LEVEL
 from matshop.memory import require_memory
 
 #: Default guard against corrupt headers: refuse images with more pixels than
@@ -32,10 +33,6 @@ from matshop.memory import require_memory
 #: also hold at most ``4 * max_pixels`` values in all (e.g. 128-channel EXRs).
 MAX_PIXELS = 16384 * 16384
 
-#: zlib level of PNGs written (OpenImageIO's default is 6). Chosen by
-#: benchmarks/png_level.py on the chessboard maps: level 2 writes in about a third
-#: of level 6's time for files 10-25 % larger.
-PNG_LEVEL = 2
 
 _INTEGER_FORMATS = frozenset(
     {"uint8", "int8", "uint16", "int16", "uint32", "int32", "uint64", "int64"}
@@ -186,6 +183,7 @@ def write_image(
     channel_names: tuple[str, ...] | list[str] | None = None,
     attributes: dict[str, str | int | float] | None = None,
     png_level: int | None = None,
+    png_filter: str = PNG_FILTER,
 ) -> None:
     """Write ``array`` (float ``(H, W[, C])``, integers scaled from ``[0, 1]``).
 
@@ -193,7 +191,8 @@ def write_image(
     combinations it cannot store are refused before anything is written.
     Integer depths clip to ``[0, 1]`` and round to the nearest code value.
     ``attributes`` become file metadata (e.g. ``{"matshop:space": "ndf"}``).
-    ``png_level`` is PNG's zlib level, 0-9 (default :data:`PNG_LEVEL`).
+    ``png_level`` is PNG's zlib level, 0-9 (default :data:`PNG_LEVEL`), ``png_filter``
+    its row filter (a key of :data:`PNG_FILTERS`).
     The write is atomic: on failure any previous file at ``path`` is intact.
     """
     path = check_text_name(path)  # OpenImageIO takes text paths only
@@ -215,6 +214,11 @@ def write_image(
         if not (isinstance(level, int) and 0 <= level <= 9):
             raise MatshopError(f"PNG compression level must be 0 to 9, got {level!r}", path)
         spec.attribute("png:compressionLevel", level)
+        if png_filter not in PNG_FILTERS:
+            raise MatshopError(
+                f"PNG filter must be one of {', '.join(PNG_FILTERS)}, got {png_filter!r}", path
+            )
+        spec.attribute("png:filter", PNG_FILTERS[png_filter])
     for name, value in (attributes or {}).items():
         if isinstance(value, bool) or not isinstance(value, str | int | float):
             raise MatshopError(f"attribute {name!r} must be str, int or float", path)

@@ -318,22 +318,28 @@ def save_material(
     *,
     overwrite: bool = False,
     progress: ProgressCallback | None = None,
+    png_level: int | None = None,
 ) -> list[Path]:
     """Write ``material`` as ``<out_dir>/<name>_<tag>.<ext>`` files; return their paths.
 
     All or nothing (:func:`matshop.io.fileset.write_all`): a failure leaves
     no partial set behind and never loses an existing file. Existing files
-    are replaced only with ``overwrite``.
+    are replaced only with ``overwrite``. ``png_level``: zlib level of the PNGs
+    (default :data:`~matshop.io.images.PNG_LEVEL`).
     """
     files = [
         PendingFile(
             f"{safe_stem(material.name)}_{suffix}",
-            functools.partial(_write_map, array=array, depth=depth, attrs=attrs),
+            functools.partial(
+                _write_map, array=array, depth=depth, attrs=attrs, png_level=png_level
+            ),
         )
         for suffix, array, depth, attrs in _file_plan(material)
     ]
     return write_all(out_dir, files, force=overwrite, progress=progress)
 
 
-def _write_map(path: Path, *, array: np.ndarray, depth: str, attrs: dict) -> None:
-    write_image(path, array, bit_depth=depth, attributes=attrs)
+def _write_map(
+    path: Path, *, array: np.ndarray, depth: str, attrs: dict, png_level: int | None
+) -> None:
+    write_image(path, array, bit_depth=depth, attributes=attrs, png_level=png_level)

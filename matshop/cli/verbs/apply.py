@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from ...progress import progress_bar
-from ..options import add_load_options, add_output_options, load_options
+from ..options import add_load_options, add_output_options, add_png_level_option, load_options
 from .convert import print_convention
 
 
@@ -22,6 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("input", type=Path, metavar="IN", help="texture folder or one map")
     add_output_options(parser)
+    add_png_level_option(parser)
     parser.add_argument(
         "--op",
         nargs="+",
@@ -53,7 +54,9 @@ def run(args: argparse.Namespace) -> int:
     with progress_bar("applying") as report:
         run_steps(m, steps, progress=report)
     with progress_bar("writing") as report:
-        written = m.save(args.output, overwrite=args.force, progress=report)
+        written = m.save(
+            args.output, overwrite=args.force, progress=report, png_level=args.png_level
+        )
     for name, bound, names in m.history:
         spec = get_op(name)
         settings = " ".join(f"{k}={spec.param(k).format(v)}" for k, v in bound.items())

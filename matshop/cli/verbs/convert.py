@@ -11,7 +11,7 @@ import numpy as np
 from ...io.material_io import load_material, save_material
 from ...material import EditMaterial, Material
 from ...progress import progress_bar
-from ..options import add_load_options, add_output_options, load_options
+from ..options import add_load_options, add_output_options, add_png_level_option, load_options
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -22,6 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("input", type=Path, metavar="IN", help="texture folder or one map")
     add_output_options(parser)
+    add_png_level_option(parser)
     parser.add_argument(
         "--sampled-distribution",
         action="store_true",
@@ -38,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
         args.output,
         sampled_distribution=args.sampled_distribution,
         force=args.force,
+        png_level=args.png_level,
         **load_options(args),
     )
     print_convention(back)
@@ -54,11 +56,13 @@ def convert(
     *,
     sampled_distribution: bool = False,
     force: bool = False,
+    png_level: int | None = None,
     **load: Any,
 ) -> tuple[Material, list[Path], dict[str, str]]:
     """import -> edit space -> back -> write; returns what was written and the errors.
 
-    ``load`` are the keyword arguments of :func:`~matshop.io.material_io.load_material`.
+    ``png_level``: zlib level of the PNGs (default: the writer's). ``load`` are the
+    keyword arguments of :func:`~matshop.io.material_io.load_material`.
     """
     material, _ = load_material(input_path, **load)
     if sampled_distribution:
@@ -70,7 +74,7 @@ def convert(
     with progress_bar("from edit space") as report:
         back = edit.to_physical(progress=report)
     with progress_bar("writing") as report:
-        written = save_material(back, output, overwrite=force, progress=report)
+        written = save_material(back, output, overwrite=force, progress=report, png_level=png_level)
     return back, written, roundtrip_errors(material, back)
 
 

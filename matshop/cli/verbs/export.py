@@ -10,7 +10,7 @@ import argparse
 from pathlib import Path
 
 from ...errors import MatshopError
-from ..options import add_load_options, add_output_options, load_options
+from ..options import add_load_options, add_output_options, add_png_level_option, load_options
 
 #: the choices of --mtlx-shader (mtlx.SHADING_MODELS' names; kept here so --help stays light)
 SHADING_MODEL_NAMES = ("open_pbr_surface", "standard_surface", "gltf_pbr")
@@ -43,6 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "input", type=Path, nargs="?", metavar="IN", help="texture folder, map or .matshop project"
     )
     add_output_options(parser, optional=True)
+    add_png_level_option(parser, default="the preset's pngLevel, else the built-in level")
     parser.add_argument("--preset", help="built-in preset name (see --list-presets)")
     parser.add_argument(
         "--preset-file", type=Path, help="your own preset, JSON or TOML (Substance-like shape)"
@@ -132,6 +133,7 @@ def run(args: argparse.Namespace) -> int:
         usd=args.usd,
         usdz=args.usdz,
         mtlx_shader=args.mtlx_shader,
+        png_level=args.png_level,
     )
     read_as = convention_line(material.sources)
     for line in ([read_as] if read_as else []) + summary.lines():

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ...io.material_io import save_material
 from ...progress import progress_bar
-from ..options import add_output_options
+from ..options import add_output_options, add_png_level_option
 from ..project import about_project, open_project
 
 
@@ -18,6 +18,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("project", type=Path, metavar="PROJECT")
     add_output_options(parser)
+    add_png_level_option(parser)
     parser.set_defaults(run=run)
 
 
@@ -26,7 +27,9 @@ def run(args: argparse.Namespace) -> int:
     doc, _, _ = open_project(args.project, for_writing=False)
     material = doc.flatten_physical()
     with progress_bar("writing") as report:
-        written = save_material(material, args.output, overwrite=args.force, progress=report)
+        written = save_material(
+            material, args.output, overwrite=args.force, progress=report, png_level=args.png_level
+        )
     for path in written:
         print(f"wrote {path}")
     return 0
