@@ -81,7 +81,9 @@ def test_failure_mid_write_leaves_nothing_half_written(
     monkeypatch.setattr(writer, "write_one", fail_after_first)
     with pytest.raises(MatshopError, match="disk full"):
         export_material(small, "unreal", tmp_path, force=True)
-    assert len(calls) == 2  # the first file was written (into staging) before the failure
+    # the first file was written (into staging) before the failure; files go two at a
+    # time, so a third may have started before the second failed
+    assert 2 <= len(calls) <= 3
     assert _listing(tmp_path) == before
 
 

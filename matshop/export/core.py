@@ -253,7 +253,8 @@ def _usd_files(
     if usdz:
         textures = referenced_files(stage)
         check_usdz_files(textures)
-        files.append(PendingFile(f"{name}.usdz", usdz_writer(f"{name}.usda", textures)))
+        writer = usdz_writer(f"{name}.usda", textures)
+        files.append(PendingFile(f"{name}.usdz", writer, reads_others=True))
     return files
 
 

@@ -9,7 +9,8 @@ fails half way, the files already moved are taken back out and the old ones
 (kept as hard links, or copies) are put back.
 
 Existing files are replaced only with ``force``; the check runs before any
-work, so a refused export costs nothing.
+work, so a refused export costs nothing. Files are written several at a time
+(:mod:`.overlap`), except those that read the others (a package).
 """
 
 from __future__ import annotations
@@ -19,11 +20,14 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Sequence
+from contextlib import closing
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 from ..errors import MatshopError
 from .leftovers import BACKUP_DIR, PLAN_NAME, clean_leftovers
+from .overlap import in_order
 from .safe_names import check_file_name
 
 
@@ -34,6 +38,9 @@ class PendingFile:
     name: str
     #: writes the complete file at the given (staging) path
     write: Callable[[Path], None]
+    #: the writer reads the other files from the staging folder (a package of them),
+    #: so it runs after every other file is written
+    reads_others: bool = False
 
 
 def check_targets(out_dir: Path, names: Sequence[str], *, force: bool) -> None:
@@ -88,15 +95,14 @@ def write_all(
     try:
         if progress is not None:
             progress(0, len(files))
-        for done, pending in enumerate(files, 1):
-            try:
-                write_one(pending, staging / pending.name)
-            except OSError as exc:
-                raise MatshopError(
-                    f"cannot write: {exc.strerror or exc}", out / pending.name
-                ) from None
-            except MatshopError as exc:  # name the file the user asked for, not the staged one
-                raise MatshopError(exc.problem, out / pending.name) from None
+        alone = [f for f in files if not f.reads_others]
+        tasks = [partial(_write_staged, f, staging, out) for f in alone]
+        with closing(in_order(tasks)) as written:
+            for done, _ in enumerate(written, 1):
+                if progress is not None:
+                    progress(done, len(files))
+        for done, pending in enumerate([f for f in files if f.reads_others], len(alone) + 1):
+            _write_staged(pending, staging, out)
             if progress is not None:
                 progress(done, len(files))
         return _move_into_place(staging, out, names)
@@ -108,6 +114,15 @@ def write_all(
         raise
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _write_staged(pending: PendingFile, staging: Path, out: Path) -> None:
+    try:
+        write_one(pending, staging / pending.name)
+    except OSError as exc:
+        raise MatshopError(f"cannot write: {exc.strerror or exc}", out / pending.name) from None
+    except MatshopError as exc:  # name the file the user asked for, not the staged one
+        raise MatshopError(exc.problem, out / pending.name) from None
 
 
 def _move_into_place(staging: Path, out: Path, names: Sequence[str]) -> list[Path]:

@@ -13,6 +13,7 @@ non-finite files; formats that cannot hold the data) raises
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -88,23 +89,36 @@ def probe_image(path: str | os.PathLike[str], *, max_pixels: int = MAX_PIXELS) -
     return info
 
 
+#: threads inside :func:`_c_stderr_silenced`, and the real fd 2 while any is
+_silenced = {"count": 0, "saved": -1}
+_silenced_lock = threading.Lock()
+
+
 @contextmanager
 def _c_stderr_silenced() -> Iterator[None]:
     """Mute file descriptor 2 for the duration of a C library call.
 
     libpng prints "libpng error: ..." straight to fd 2 before OpenImageIO
     reports the same problem through ``geterror``; the user should see our
-    one-line error only.
+    one-line error only. fd 2 is shared by the process, so files read at once
+    on several threads share one muting: the first mutes, the last restores.
     """
-    saved = os.dup(2)
-    devnull = os.open(os.devnull, os.O_WRONLY)
+    with _silenced_lock:
+        if _silenced["count"] == 0:
+            saved = os.dup(2)
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, 2)
+            os.close(devnull)
+            _silenced["saved"] = saved
+        _silenced["count"] += 1
     try:
-        os.dup2(devnull, 2)
         yield
     finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-        os.close(devnull)
+        with _silenced_lock:
+            _silenced["count"] -= 1
+            if _silenced["count"] == 0:
+                os.dup2(_silenced["saved"], 2)
+                os.close(_silenced["saved"])
 
 
 def read_image(
@@ -136,8 +150,9 @@ def read_image(
         inp.close()
     if pixels is None or error:
         raise MatshopError(f"truncated or corrupt image: {error or 'read failed'}", path)
-    if native:
-        pixels = pixels.astype(np.float32) / np.float32(np.iinfo(info.bit_depth).max)
+    if native:  # divided in place: one float32 array (page faults cost as much as the division)
+        pixels = pixels.astype(np.float32)
+        pixels /= np.float32(np.iinfo(info.bit_depth).max)
     pixels = np.asarray(pixels, dtype=np.float32)
     expected = (info.height, info.width, info.channels)
     if pixels.size != np.prod(expected):

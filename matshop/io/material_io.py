@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import functools
 import os
+from collections.abc import Callable
+from contextlib import closing
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -29,6 +31,7 @@ from .normal_convention import (
     DEFAULT_CONVENTION,
     decide_convention,
 )
+from .overlap import in_order
 from .safe_names import safe_stem
 from .textureset import PACKED_CHANNELS, TextureSet, check_texture_set, resolve_texture_set
 from .usd_material import is_usd, read_usd_material
@@ -75,7 +78,8 @@ def _read_all(
     ts: TextureSet, max_pixels: int | None, progress: ProgressCallback | None = None
 ) -> tuple[dict, dict]:
     """Every map file of ``ts``; ``progress(files read, files)`` before the first and after
-    each (a callback that raises stops the reading between files)."""
+    each (a callback that raises stops the reading between files). Several files are
+    read at once (:func:`~matshop.io.overlap.in_order`), their results taken in order."""
     arrays: dict[str, np.ndarray] = {}
     infos: dict[str, ImageInfo] = {}
     size: tuple[int, int] | None = None
@@ -83,22 +87,28 @@ def _read_all(
     total = len(ts.maps)
     if progress is not None:
         progress(0, total)
-    for done, (slot, path) in enumerate(ts.maps.items(), 1):
-        kwargs = {} if max_pixels is None else {"max_pixels": max_pixels}
-        array, info = read_image(path, **kwargs)
-        if size is None:
-            size, size_from = array.shape[:2], path
-        elif array.shape[:2] != size:
-            raise MatshopError(
-                f"size {array.shape[1]}x{array.shape[0]} differs from "
-                f"{size_from.name if size_from else '?'} ({size[1]}x{size[0]}); "
-                "all maps of a texture set must have the same resolution",
-                path,
-            )
-        arrays[slot], infos[slot] = array, info
-        if progress is not None:
-            progress(done, total)
+    kwargs = {} if max_pixels is None else {"max_pixels": max_pixels}
+    reads = [functools.partial(_read, path, kwargs) for path in ts.maps.values()]
+    with closing(in_order(reads)) as results:
+        files = zip(ts.maps.items(), results, strict=True)
+        for done, ((slot, path), (array, info)) in enumerate(files, 1):
+            if size is None:
+                size, size_from = array.shape[:2], path
+            elif array.shape[:2] != size:
+                raise MatshopError(
+                    f"size {array.shape[1]}x{array.shape[0]} differs from "
+                    f"{size_from.name if size_from else '?'} ({size[1]}x{size[0]}); "
+                    "all maps of a texture set must have the same resolution",
+                    path,
+                )
+            arrays[slot], infos[slot] = array, info
+            if progress is not None:
+                progress(done, total)
     return arrays, infos
+
+
+def _read(path: Path, kwargs: dict) -> tuple[np.ndarray, ImageInfo]:
+    return read_image(path, **kwargs)  # the module's name, looked up per call (a test seam)
 
 
 def load_material(
@@ -278,8 +288,11 @@ def _bit_depth_for(material: Material, name: str) -> str:
     return source_depth if source_depth in ("uint8", "uint16", "half", "float") else "uint8"
 
 
-def _file_plan(material: Material) -> list[tuple[str, np.ndarray, str, dict]]:
-    """(file name, array, bit depth, attributes) for every file a material saves to."""
+def _file_plan(
+    material: Material,
+) -> list[tuple[str, np.ndarray | Callable[[], np.ndarray], str, dict]]:
+    """(file name, its array or how to make it, bit depth, attributes) for every file a
+    material saves to; normal maps are encoded when written, on the writing thread."""
     plan = []
     for param in material.schema.parameters:
         name = param.name
@@ -292,16 +305,17 @@ def _file_plan(material: Material) -> list[tuple[str, np.ndarray, str, dict]]:
         if name == "normal":
             convention = material.sources.get(name, {}).get("convention", DEFAULT_CONVENTION)
             attrs = {**attrs, CONVENTION_ATTRIBUTE: convention}
+            encode = functools.partial(encode_normal_map, convention=convention)
             plan.append(
                 (
                     f"{tag}_{CONVENTION_TOKENS[convention]}.png",  # read back without a guess
-                    encode_normal_map(array[..., :3], convention=convention),
+                    functools.partial(encode, array[..., :3]),
                     depth if depth in ("uint8", "uint16") else "uint16",
                     attrs,
                 )
             )
             if array.shape[2] == 6:
-                tangent = encode_normal_map(array[..., 3:], convention=convention)
+                tangent = functools.partial(encode, array[..., 3:])
                 plan.append(("tangent.png", tangent, "uint16", attrs))
             continue
         if name in _WIDE_SLOTS:
@@ -340,6 +354,12 @@ def save_material(
 
 
 def _write_map(
-    path: Path, *, array: np.ndarray, depth: str, attrs: dict, png_level: int | None
+    path: Path,
+    *,
+    array: np.ndarray | Callable[[], np.ndarray],
+    depth: str,
+    attrs: dict,
+    png_level: int | None,
 ) -> None:
-    write_image(path, array, bit_depth=depth, attributes=attrs, png_level=png_level)
+    pixels = array() if callable(array) else array
+    write_image(path, pixels, bit_depth=depth, attributes=attrs, png_level=png_level)
