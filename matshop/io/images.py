@@ -339,6 +339,12 @@ def _prepare(path: Path, array: np.ndarray, bit_depth: str) -> np.ndarray:
     if (fmt.channels is not None and c not in fmt.channels) or c > _MAX_CHANNELS:
         allowed = fmt.channels or f"up to {_MAX_CHANNELS}"
         raise MatshopError(f"{fmt.oiio_name} cannot store {c} channels (allowed: {allowed})", path)
+    if bit_depth in ("uint8", "uint16") and array.dtype in (np.float32, np.float64):
+        from ._codes import to_codes  # numba: loaded only when integer files are written
+
+        codes, bad = to_codes(array, bit_depth)
+        if not bad:
+            return codes
     _check_finite(array, path, "refusing to write")
     if bit_depth in ("uint8", "uint16"):
         top = np.iinfo(bit_depth).max
