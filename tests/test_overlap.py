@@ -50,7 +50,7 @@ def test_results_in_order_at_most_window_at_once() -> None:
     # later tasks finish first: the order of results is still the order of tasks
     tasks = [rec.task(i, seconds=0.05 - 0.01 * i) for i in range(5)]
     assert list(in_order(tasks, window=2)) == [0, 1, 2, 3, 4]
-    assert rec.most == 2
+    assert rec.most <= 2  # (that they do run at once: the barrier test below)
 
 
 def test_tasks_really_run_at_once() -> None:
@@ -72,8 +72,10 @@ def test_stopping_starts_nothing_more() -> None:
         for result in results:
             if result == 1:
                 break
-    assert rec.running == 0  # closing waited for the task in flight
-    assert sorted(rec.started) == [0, 1, 2]  # task 2 started when 0 was taken, 3 never
+    assert rec.running == 0  # closing waited for what was in flight
+    # task 2 was handed to the pool when result 0 was taken (it may have been cancelled
+    # before it began); task 3 would only have been handed over after result 1
+    assert sorted(rec.started) in ([0, 1], [0, 1, 2])
 
 
 def test_window_one_runs_in_the_callers_thread() -> None:
