@@ -233,22 +233,6 @@ def test_export_keep_variance_checkerboard_downsized(tmp_path: Path) -> None:
     np.testing.assert_allclose(kept, (0.3**4 + HAND_TRACE) ** 0.25, rtol=2e-3)
 
 
-def test_sampled_distribution_is_refused_in_one_line(
-    tmp_path: Path, capfd: pytest.CaptureFixture[str]
-) -> None:
-    normal = _checker(_tilted(*TILT_A), _tilted(*TILT_B))
-    _write_set(tmp_path / "in", normal, 0.3, SIZE)
-    sampled = tmp_path / "sampled"
-    assert main(["convert", str(tmp_path / "in"), str(sampled), "--sampled-distribution"]) == 0
-    capfd.readouterr()
-    out = tmp_path / "out"
-    argv = ["apply", str(sampled), str(out), "--op", "blur", "keep_variance=true"]
-    assert main(argv) == 2
-    err = capfd.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "sampled distribution" in err[0]
-    assert not out.exists()
-
-
 def test_blur_handles_more_channels_than_opencv_takes() -> None:
     # a sampled lobe (128) beside colours: 134 channels; OpenCV 5 filters take 128
     rng = np.random.default_rng(5)

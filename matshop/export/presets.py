@@ -34,8 +34,8 @@ the material has at least one of its parameters (emissive, height).
 reduction averages away whenever an export with the preset downsizes
 (``--size N``; :mod:`matshop.ops.variance`); the command line's
 ``--keep-variance`` / ``--no-keep-variance`` overrides it. The built-in presets
-say ``false``: a sampled distribution cannot be widened yet, and the bundled
-sample has one, so ``true`` would refuse its downsized exports.
+say ``false``: the option is not closer to the far-field look on every material
+(docs/variance.md), so it stays the user's choice.
 
 ``"pngLevel": N`` (0-9) is the zlib level of the preset's PNG files (default
 :data:`~matshop.io.png_settings.PNG_LEVEL`, chosen by measurement; 9 for the

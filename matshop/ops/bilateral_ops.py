@@ -25,7 +25,6 @@ from .bilateral import bilateral_filter
 from .selection import Selection
 from .spec import BORDER, WHOLE_IMAGE, Check, OpError, OpSpec, OpTarget, ParamSpec, Reach
 from .variance import (
-    lobe_parameters,
     moments_covariance,
     normal_moments,
     smooths_normals,
@@ -82,11 +81,9 @@ def _filtered(
 def _moments_to_keep(
     edit: np.ndarray, schema: Schema | None, selection: Selection, op: str
 ) -> np.ndarray | None:
-    """The normals' slope moments when ``keep_variance`` has tilt to keep, else None;
-    refuses lobes it cannot widen before the costly part."""
+    """The normals' slope moments when ``keep_variance`` has tilt to keep, else None."""
     if schema is None:
         raise OpError(f"{op}: needs the material's schema (which channels are normals)")
-    lobe_parameters(schema, op)
     if not smooths_normals(schema, (g.name for g in selection.groups)):
         return None  # the normals are not filtered: no tilt is lost
     return normal_moments(edit, schema)

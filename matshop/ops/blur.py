@@ -19,7 +19,6 @@ from ..material import Schema
 from .selection import Selection
 from .spec import BORDER, OpError, OpSpec, OpTarget, ParamSpec, Reach
 from .variance import (
-    lobe_parameters,
     moments_covariance,
     normal_moments,
     smooths_normals,
@@ -194,13 +193,11 @@ def _keep_variance(
 
 
 def check_blur(values: Mapping[str, Any], target: OpTarget) -> None:
-    """A sigma far beyond the image means nothing; keep_variance needs widenable lobes."""
+    """A sigma far beyond the image means nothing."""
     sigma_px = values["sigma_px"]
     if target.size is not None and sigma_px > 4 * max(target.size):
         height, width = target.size
         raise OpError(f"blur: sigma_px={sigma_px:g} is far larger than the {width}x{height} image")
-    if values["keep_variance"] and target.schema is not None:
-        lobe_parameters(target.schema, _KEEP)
 
 
 def blur_reach(values: Mapping[str, Any], target: OpTarget) -> Reach:

@@ -6,8 +6,10 @@ material seen from the same distance (specular aliasing; Toksvig 2005, LEAN
 mapping, Olano and Baker 2010). For a linear averaging ``A`` (rows summing to
 one) over the normals' slopes ``s = (-n_x/n_z, -n_y/n_z)`` the covariance the
 averaging removes is ``A(s s^T) - A(s) A(s)^T``; adding its trace to the
-lobe's total slope variance (``alpha^2`` for GGX and Beckmann) keeps the
-far-field look. docs/variance.md has the derivation and the measurement.
+lobe's total slope variance (``alpha^2`` for GGX and Beckmann; a tabulated
+lobe's slopes convolved with a Gaussian of that variance,
+:mod:`.sampled_widening`) keeps the far-field look. docs/variance.md has the
+derivation and the measurement.
 
 Pure functions over arrays: :func:`lost_slope_covariance` needs only normals
 and the averaging; :func:`widen_lobes` rewrites the lobe channels of an edit
@@ -22,6 +24,8 @@ import numpy as np
 
 from ..material import Schema
 from ..spaces.base import Space
+from ..spaces.sampled import SampledDistributionSpace
+from .sampled_widening import widen_tabulated
 from .spec import OpError
 
 #: An averaging: ``(H, W, C) float32 -> (H', W', C) float32``, linear, weights summing to 1.
@@ -177,19 +181,28 @@ def widen_render_lobe(
     return out
 
 
-def lobe_parameters(schema: Schema, op: str = "keep variance") -> list[str]:
-    """Names of the lobe parameters :func:`widen_lobes` rewrites; refuses lobes it cannot widen."""
-    names = []
-    for param in schema.parameters:
-        family = getattr(param.space, "family", None)
-        if family in WIDENED_FAMILIES:
-            names.append(param.name)
-        elif param.name == "distribution" or param.space.name.startswith("sampled"):
-            raise OpError(
-                f"{op}: cannot widen the sampled distribution {param.name!r} yet "
-                "(GGX, Beckmann, Phong and Ashikhmin-Shirley lobes only)"
-            )
-    return names
+def lobe_parameters(schema: Schema) -> list[str]:
+    """Names of the lobe parameters :func:`widen_lobes` rewrites (analytic and sampled)."""
+    return [
+        param.name
+        for param in schema.parameters
+        if getattr(param.space, "family", None) in WIDENED_FAMILIES
+        or isinstance(param.space, SampledDistributionSpace)
+    ]
+
+
+def _widened_sampled(
+    space: SampledDistributionSpace, block: np.ndarray, trace: np.ndarray
+) -> np.ndarray:
+    """Inverse-CDF edit values of tabulated lobes widened by the slope variance ``trace``.
+
+    The widening is computed on the lobes (:mod:`.sampled_widening`) and added to the
+    edit values as the change of their quantiles, ``e + Q(widened) - Q(d)``, so the
+    round trip's own error (and whatever legal out-of-range values ``e`` holds) is not
+    written back: a vanishing variance changes a vanishing amount.
+    """
+    lobe = space.from_edit(block)
+    return block + (space.to_edit(widen_tabulated(lobe, trace)) - space.to_edit(lobe))
 
 
 def widen_lobes(
@@ -216,18 +229,23 @@ def widen_lobes(
     texels with no lost variance keep their exact bits. Other channels are
     copied unchanged.
     """
-    names = lobe_parameters(schema, op)
+    names = lobe_parameters(schema)
     if not names:
         raise OpError(
             f"{op}: the material has no lobe parameter to widen (roughness, "
-            "beckmann_roughness, phong_exponent or anisotropic_exponents)"
+            "beckmann_roughness, phong_exponent, anisotropic_exponents or distribution)"
         )
     out = edit.copy()
-    lost = (cov[..., 0] + cov[..., 2]) > 0
+    trace = cov[..., 0] + cov[..., 2]
+    lost = trace > 0
     for name in names:
         space = schema[name].space
         block = np.ascontiguousarray(edit[..., schema.edit_slices[name]])
-        widened = space.to_edit(_widen_physical(space, space.from_edit(block), cov, tangent))
+        if isinstance(space, SampledDistributionSpace):
+            widened = block.copy()  # only the texels that lost tilt pay for the widening
+            widened[lost] = _widened_sampled(space, block[lost], trace[lost])
+        else:
+            widened = space.to_edit(_widen_physical(space, space.from_edit(block), cov, tangent))
         widened = np.maximum(widened.astype(np.float32), block)
         if mask is not None:
             widened = block + mask[..., None] * (widened - block)
