@@ -44,7 +44,7 @@ def _cdf(d: np.ndarray) -> np.ndarray:
 
 def _beckmann_cdf(m: float) -> np.ndarray:
     with np.errstate(over="ignore"):
-        return 1.0 - np.exp(-np.tan(EDGES) ** 2 / (m * m))
+        return 1.0 - np.exp(-(np.tan(EDGES) ** 2) / (m * m))
 
 
 def _ggx_cdf(alpha: float) -> np.ndarray:

@@ -12,6 +12,8 @@ and ``from_edit`` clamps whatever the filter's negative lobes overshoot.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import scipy.sparse
 
@@ -21,6 +23,9 @@ from ..memory import require_memory
 from ..ops.variance import lost_slope_covariance, widen_lobes
 
 _LOBES = 3
+
+#: per-axis resampling weights ``(n_in, n_out) -> (n_out, n_in)`` sparse matrix
+Weights = Callable[[int, int], scipy.sparse.csr_matrix]
 
 
 def is_power_of_two(n: int) -> bool:
@@ -62,16 +67,38 @@ def resampling_matrix(n_in: int, n_out: int) -> scipy.sparse.csr_matrix:
     )
 
 
-def resize_array(array: np.ndarray, size_hw: tuple[int, int]) -> np.ndarray:
-    """Resample ``(H, W, C)`` float data to ``size_hw`` (periodic Lanczos-3)."""
+def area_matrix(n_in: int, n_out: int) -> scipy.sparse.csr_matrix:
+    """Sparse ``(n_out, n_in)`` area weights: output texel ``j`` is the mean of the input
+    over its own extent ``[j, j + 1) * n_in / n_out`` (texels weighted by their overlap).
+
+    Non-negative, rows sum to 1, centres aligned as in :func:`resampling_matrix`.
+    """
+    scale = n_in / n_out
+    start = np.arange(n_out) * scale
+    first = np.floor(start).astype(np.int64)
+    taps = int(np.ceil(scale)) + 1
+    index = first[:, None] + np.arange(taps)[None, :]
+    overlap = np.minimum(index + 1, start[:, None] + scale) - np.maximum(index, start[:, None])
+    weights = np.clip(overlap, 0.0, None) / scale
+    keep = (weights > 0) & (index < n_in)
+    rows = np.broadcast_to(np.arange(n_out)[:, None], index.shape)
+    return scipy.sparse.csr_matrix((weights[keep], (rows[keep], index[keep])), shape=(n_out, n_in))
+
+
+def resize_array(
+    array: np.ndarray, size_hw: tuple[int, int], *, weights: Weights | None = None
+) -> np.ndarray:
+    """Resample ``(H, W, C)`` float data to ``size_hw``: separable ``weights`` per axis
+    (:func:`resampling_matrix`, periodic Lanczos-3, when None)."""
+    weights = weights or resampling_matrix
     height, width, channels = array.shape
     new_h, new_w = size_hw
     data = np.asarray(array, dtype=np.float32)
     if new_h != height:
-        rows = resampling_matrix(height, new_h)
+        rows = weights(height, new_h)
         data = (rows @ data.reshape(height, -1)).reshape(new_h, width, channels)
     if new_w != width:
-        cols = resampling_matrix(width, new_w)
+        cols = weights(width, new_w)
         moved = np.ascontiguousarray(data.transpose(1, 0, 2)).reshape(width, -1)
         data = (cols @ moved).reshape(new_w, new_h, channels).transpose(1, 0, 2)
     return np.ascontiguousarray(data, dtype=np.float32)
@@ -84,7 +111,8 @@ def resize_material(
 
     ``keep_variance``: widen the lobe by the normal tilt variance a reduction
     averages away (:mod:`matshop.ops.variance`), so the smaller material keeps
-    the larger one's look from afar. Only reductions lose variance.
+    the larger one's look from afar: the slopes' covariance over each small
+    texel's area (:func:`area_matrix`). Only reductions lose variance.
     """
     if tuple(size_hw) == tuple(material.size):
         return material
@@ -100,7 +128,13 @@ def resize_material(
     reduced = size_hw[0] < material.size[0] or size_hw[1] < material.size[1]
     if keep_variance and reduced and "normal" in material.maps:
         normal = material.maps["normal"]
-        cov = lost_slope_covariance(normal[..., :3], lambda a: resize_array(a, size_hw))
+        # the lost tilt is the spread of slopes over each small texel's own area: a
+        # variance needs non-negative weights (Lanczos' negative lobes are not a
+        # mixture), and Lanczos' reach of 3 texels on each side would widen
+        # neighbours whose own area has no tilt at all (docs/variance.md)
+        cov = lost_slope_covariance(
+            normal[..., :3], lambda a: resize_array(a, size_hw, weights=area_matrix)
+        )
         frame = edit.schema["normal"].space.from_edit(
             np.ascontiguousarray(data[..., edit.schema.edit_slices["normal"]])
         )

@@ -35,7 +35,7 @@ from ..spaces.sampled import bin_measure, theta_edges
 #: grazing normals are capped at 20, so v stays below 2 * 20^2)
 V_MIN = 1.0e-6
 V_MAX = 1.0e3
-GRID_STEP = 2.0 ** 0.25
+GRID_STEP = 2.0**0.25
 #: rings carrying each bin's mass (midpoints of equal sin^2 steps)
 SUB_RINGS = 8
 _BAND_SIGMAS = 9.0

@@ -13,10 +13,11 @@ deterministic (no environment sampling noise).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
-from ..export.resize import resize_material
+from ..export.resize import resize_array, resize_material
 from ..material import Material
 from .integrator import DirectionalLight
 from .render import render
@@ -29,6 +30,10 @@ LIGHTS = (
     DirectionalLight((0.0, np.sin(np.radians(60.0)), np.cos(np.radians(60.0))), (3.0, 3.0, 3.0)),
     DirectionalLight((0.35, np.sin(np.radians(45.0)), np.cos(np.radians(45.0))), (2.0, 2.0, 2.0)),
 )
+
+
+#: how the full render is brought to the small size (:func:`far_field_renders`)
+Truth = Literal["box", "lanczos"]
 
 
 @dataclass(frozen=True)
@@ -78,10 +83,20 @@ class FarFieldRenders:
 
 
 def far_field_renders(
-    material: Material, factor: int, *, reference: np.ndarray | None = None
+    material: Material,
+    factor: int,
+    *,
+    reference: np.ndarray | None = None,
+    truth: Truth = "box",
 ) -> FarFieldRenders:
     """The three images a reduction by ``factor`` is judged on (``reference``: the
-    full-resolution :func:`swatch_radiance`, when already rendered)."""
+    full-resolution :func:`swatch_radiance`, when already rendered).
+
+    ``truth``: the full render averaged over each small pixel's area (``"box"``, what
+    the eye integrates) or resampled by the export's own Lanczos-3 (``"lanczos"``, the
+    same weights the material's values get: a check that a result does not hinge
+    on the two filters differing).
+    """
     full = swatch_radiance(material) if reference is None else reference
     h, w = material.size
     size = (h // factor, w // factor)
@@ -89,13 +104,18 @@ def far_field_renders(
         swatch_radiance(resize_material(material, size, keep_variance=keep))
         for keep in (False, True)
     )
-    return FarFieldRenders(factor, box_average(full, factor), plain, kept)
+    far = box_average(full, factor) if truth == "box" else resize_array(full, size)
+    return FarFieldRenders(factor, far, plain, kept)
 
 
 def far_field_errors(
-    material: Material, factors: tuple[int, ...] = (2, 4, 8), *, reference: np.ndarray | None = None
+    material: Material,
+    factors: tuple[int, ...] = (2, 4, 8),
+    *,
+    reference: np.ndarray | None = None,
+    truth: Truth = "box",
 ) -> list[FarFieldError]:
     """RMSE against the averaged full render of the downsized material, without and with
-    variance kept, per reduction factor."""
+    variance kept, per reduction factor (``truth``: :func:`far_field_renders`)."""
     full = swatch_radiance(material) if reference is None else reference
-    return [far_field_renders(material, f, reference=full).errors() for f in factors]
+    return [far_field_renders(material, f, reference=full, truth=truth).errors() for f in factors]
