@@ -8,6 +8,11 @@ and only after a probe context proves OpenGL 3.3 core exists: where it does
 not (``QT_QPA_PLATFORM=offscreen``, no driver) the dock shows one line
 instead and the editor works as before.
 
+The toolbar's Mirror (X, Y or Z, and an offset) paints every 3D stroke also
+across that plane of the mesh's object space, and shows the plane
+(:mod:`matshop.viewport.gl.mirror`); the 2D canvas's Mirror X/Y stays the
+texture-space symmetry of 2D strokes.
+
 Painting goes through the same pieces as the 2D brush: the active tool
 decides what a left drag does (brush: paint the swatch; eraser: erase;
 eyedropper: pick the swatch at the texel under the cursor; clone: orbit, with
@@ -32,6 +37,7 @@ from PySide6.QtGui import QAction
 from PySide6.QtWidgets import (
     QComboBox,
     QDockWidget,
+    QDoubleSpinBox,
     QLabel,
     QSizePolicy,
     QStackedWidget,
@@ -202,6 +208,7 @@ class View3DDock(QDockWidget):
         layout.setContentsMargins(0, 0, 0, 0)
         layout.setSpacing(0)
         layout.addWidget(self._build_toolbar())
+        layout.addWidget(self._build_mirror())
         self.stack = QStackedWidget()
         self.note = QLabel("")
         self.note.setObjectName("hint")
@@ -249,6 +256,50 @@ class View3DDock(QDockWidget):
         hint.setObjectName("hint")
         bar.addWidget(hint)
         return bar
+
+    def _build_mirror(self) -> QToolBar:
+        """A second row: the object-space mirror, a plane of the mesh (off, X, Y, Z) and
+        its offset (the first row is full at the dock's usual width)."""
+        bar = QToolBar("3D Mirror")
+        bar.setIconSize(bar.iconSize() * 0.8)
+        bar.addWidget(QLabel("  Mirror "))
+        self.mirror_combo = QComboBox()
+        for label, axis in (("Off", None), ("X", "x"), ("Y", "y"), ("Z", "z")):
+            self.mirror_combo.addItem(label, axis)
+        self.mirror_combo.setToolTip(
+            "Strokes in the 3D view also paint their mirror image across this plane of the "
+            "mesh's own axes, through its bounding box's centre (the 2D canvas mirrors with "
+            "Tools > Mirror X/Y)"
+        )
+        self.mirror_offset = QDoubleSpinBox()
+        self.mirror_offset.setRange(-1.0, 1.0)
+        self.mirror_offset.setSingleStep(0.01)
+        self.mirror_offset.setDecimals(3)
+        self.mirror_offset.setToolTip(
+            "Move the mirror plane along its axis from the mesh's centre, in units of the "
+            "mesh's bounding radius"
+        )
+        self.mirror_combo.currentIndexChanged.connect(self._mirror_changed)
+        self.mirror_offset.valueChanged.connect(self._mirror_changed)
+        bar.addWidget(self.mirror_combo)
+        bar.addWidget(QLabel("  Offset "))
+        bar.addWidget(self.mirror_offset)
+        self._mirror_changed()
+        return bar
+
+    def mirror_plane(self) -> Any:
+        """The chosen :class:`~matshop.viewport.gl.mirror.MirrorPlane`, or None (off)."""
+        axis = self.mirror_combo.currentData()
+        if axis is None:
+            return None
+        from ..viewport.gl.mirror import MirrorPlane  # OpenGL is imported only when used
+
+        return MirrorPlane(axis, self.mirror_offset.value())
+
+    def _mirror_changed(self) -> None:
+        self.mirror_offset.setEnabled(self.mirror_combo.currentData() is not None)
+        if self.viewport is not None:
+            self.viewport.set_mirror(self.mirror_plane())
 
     # -- showing -------------------------------------------------------------
 
@@ -301,6 +352,7 @@ class View3DDock(QDockWidget):
         self.stack.setCurrentWidget(self.viewport)
         self.set_mesh(self.mesh_combo.currentData())
         self.viewport.set_keep_variance(self.keep_variance_action.isChecked())
+        self.viewport.set_mirror(self.mirror_plane())
         self._document_replaced()
         return self.viewport
 

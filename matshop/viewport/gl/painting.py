@@ -22,6 +22,11 @@ Everything else is the brush engine's: :class:`SurfaceStroke` is a
 :class:`~matshop.paint.painter.StrokeSession` (the same stroke buffer,
 wash-mode opacity, paint transaction, one undo step per stroke); only where
 a dab's alpha lands differs.
+
+Symmetry in object space: with a :class:`~.mirror.MeshMirror`, every dab
+also paints its image across the mirror plane (the surface point nearest to
+its reflection, in that point's own UV chart and texel size), into the same
+stroke buffer: one stroke, one undo step, as the 2D canvas's mirror images.
 """
 
 from __future__ import annotations
@@ -33,6 +38,7 @@ import numpy as np
 from ...layers.geometry import Rect
 from ...paint.brush import Brush
 from ...paint.painter import StrokeSession
+from .mirror import MeshMirror
 from .picking import SurfaceHit
 from .surface_map import SurfaceMap
 
@@ -52,9 +58,19 @@ class SurfaceStroke(StrokeSession):
     ``end`` / ``cancel`` and the undo step are the brush engine's.
     """
 
-    def __init__(self, doc, layer_id: int, brush: Brush, surface: SurfaceMap, **options) -> None:
+    def __init__(
+        self,
+        doc,
+        layer_id: int,
+        brush: Brush,
+        surface: SurfaceMap,
+        *,
+        mirror: MeshMirror | None = None,
+        **options,
+    ) -> None:
         super().__init__(doc, layer_id, brush, **options)
         self.surface = surface
+        self.mirror = mirror
         self._last: tuple[SurfaceHit, float] | None = None
         self._to_next = 0.0  # texels left to walk before the next dab
 
@@ -95,7 +111,14 @@ class SurfaceStroke(StrokeSession):
         self._last = None
 
     def stamp(self, hit: SurfaceHit, pressure: float) -> None:
-        """One dab: a ball of the brush's radius (in texels at ``hit``) around ``hit``."""
+        """One dab at ``hit`` and, with a mirror, its image across the plane."""
+        self._ball(hit, pressure)
+        if self.mirror is not None:
+            self._ball(self.mirror.image(hit), pressure)
+        self.dabs += 1
+
+    def _ball(self, hit: SurfaceHit, pressure: float) -> None:
+        """A ball of the brush's radius (in texels at ``hit``) around ``hit``."""
         brush = self.brush
         radius = brush.radius_at(pressure)
         texel = self.surface.texel_world_at(hit.uv)
@@ -118,7 +141,6 @@ class SurfaceStroke(StrokeSession):
             )
             block = alpha[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
             self.stamp_alpha(rect, flow * block.astype(np.float32), brush.opacity_at(pressure))
-        self.dabs += 1
 
 
 class ViewportPainter:

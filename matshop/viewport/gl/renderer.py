@@ -24,6 +24,8 @@ from .environment_gpu import EnvironmentTextures
 from .fbo import Framebuffer
 from .mesh_data import MeshData, uv_sphere
 from .mesh_gpu import GpuMesh
+from .mirror import MirrorPlane
+from .mirror_gpu import MirrorOverlay
 from .textures import MaterialTextures
 
 #: the reference's backdrop reads the environment at this level (render.render)
@@ -61,6 +63,9 @@ class MaterialRenderer:
         self.environment: EnvironmentTextures | None = None
         self._empty_vao = GL.glGenVertexArrays(1)
         self._pending: set[TileKey] = set()
+        #: the object-space mirror plane to show over the mesh (None: none)
+        self.mirror_plane: MirrorPlane | None = None
+        self._mirror_overlay: MirrorOverlay | None = None
         self.set_environment(environment)
         self.set_mesh(uv_sphere())
 
@@ -143,6 +148,11 @@ class MaterialRenderer:
         self.textures.bind(p)
         self.environment.bind(p)
         self.mesh.draw()
+        if self.mirror_plane is not None:
+            if self._mirror_overlay is None:
+                self._mirror_overlay = MirrorOverlay()
+            view_proj = self.camera.view_projection(width / height)
+            self._mirror_overlay.draw(self.mirror_plane, self.mesh, view_proj, self.uv_scale)
 
     def _draw_background(self, width: int, height: int) -> None:
         light = self.lighting
@@ -175,7 +185,8 @@ class MaterialRenderer:
             GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, previous)
 
     def delete(self) -> None:
-        for thing in (self.mesh, self.textures, self.environment, self.surface, self.background):
+        things = (self.mesh, self.textures, self.environment, self.surface, self.background)
+        for thing in (*things, self._mirror_overlay):
             if thing is not None:
                 thing.delete()
         GL.glDeleteVertexArrays(1, [self._empty_vao])

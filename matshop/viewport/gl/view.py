@@ -1,7 +1,8 @@
 """``MaterialViewport``: the QOpenGLWidget showing the document's material on a mesh.
 
 Mouse: with a brush set (:meth:`MaterialViewport.set_brush`) the left button
-paints; without one, or with Alt, it orbits. The right or middle button pans,
+paints (with a mirror plane, :meth:`MaterialViewport.set_mirror`, also across
+it); without one, or with Alt, it orbits. The right or middle button pans,
 the wheel zooms. The document's ``dirty`` signal queues tiles; the next frame
 uploads just those (:meth:`.renderer.MaterialRenderer.sync`).
 
@@ -29,6 +30,7 @@ from ...render.environment import Environment
 from .camera import OrbitCamera
 from .context import surface_format
 from .mesh_data import MeshData, load_mesh, uv_sphere
+from .mirror import MeshMirror, MirrorPlane
 from .painting import ViewportPainter
 from .picking import PickBuffer, SurfaceHit
 from .renderer import Lighting, MaterialRenderer
@@ -58,6 +60,8 @@ class MaterialViewport(QOpenGLWidget):
         self._surface: SurfaceMap | None = None
         self._stale_content = True
         self._brush: dict | None = None
+        self._mirror_plane: MirrorPlane | None = None
+        self._mirror: MeshMirror | None = None
         self._drag: tuple[Qt.MouseButton, float, float] | None = None
         self.painter = ViewportPainter(self._hit, self.surface_map, self._stroke_options)
         self.setMouseTracking(False)
@@ -78,6 +82,7 @@ class MaterialViewport(QOpenGLWidget):
         """An .obj/.gltf/.glb path (normalised into the unit sphere) or a :class:`MeshData`."""
         self._mesh = mesh if isinstance(mesh, MeshData) else load_mesh(mesh)
         self._surface = None
+        self._mirror = None
         self._stale_content = True
         self.update()
 
@@ -85,6 +90,7 @@ class MaterialViewport(QOpenGLWidget):
         """Texture repeats (the reference sphere scene uses 2 around, 1 pole to pole)."""
         self._uv_scale = (float(u), float(v))
         self._surface = None
+        self._mirror = None
         if self.renderer is not None:
             self.renderer.uv_scale = self._uv_scale
         self.update()
@@ -101,6 +107,25 @@ class MaterialViewport(QOpenGLWidget):
         self._keep_variance = bool(on)
         self._stale_content = True
         self.update()
+
+    def set_mirror(self, plane: MirrorPlane | None) -> None:
+        """Paint symmetrically across ``plane`` (object space; None: no mirror), and show it."""
+        if plane != self._mirror_plane:
+            self._mirror_plane = plane
+            self._mirror = None
+            self.update()
+
+    @property
+    def mirror_plane(self) -> MirrorPlane | None:
+        return self._mirror_plane
+
+    def mesh_mirror(self) -> MeshMirror | None:
+        """The mesh's mirror for strokes (built on first use), or None without a plane."""
+        if self._mirror_plane is None:
+            return None
+        if self._mirror is None:
+            self._mirror = MeshMirror(self._mesh, self._mirror_plane, uv_scale=self._uv_scale)
+        return self._mirror
 
     def set_environment(self, environment: Environment | str | None) -> None:
         self._environment = environment
@@ -152,6 +177,7 @@ class MaterialViewport(QOpenGLWidget):
         r.camera = self.camera
         r.lighting = self.lighting
         r.uv_scale = self._uv_scale
+        r.mirror_plane = self._mirror_plane
         if self._stale_content:
             r.set_mesh(self._mesh)
             r.set_document(self.doc, lobe=self._lobe, keep_variance=self._keep_variance)
@@ -219,7 +245,7 @@ class MaterialViewport(QOpenGLWidget):
     def _stroke_options(self) -> dict:
         if self._brush is None or self.doc is None:
             raise RuntimeError("no brush or document: call set_document and set_brush first")
-        return {"doc": self.doc, **self._brush}
+        return {"doc": self.doc, "mirror": self.mesh_mirror(), **self._brush}
 
     # -- mouse -------------------------------------------------------------
 
