@@ -100,8 +100,8 @@ def closest_on_triangles(
         t_ab = d1 / (d1 - d3)
         t_ac = d2 / (d2 - d6)
         t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        bary = np.stack([1.0 - v_face - w_face, v_face, w_face], axis=1)  # the face region
     n = len(a)
-    bary = np.stack([1.0 - v_face - w_face, v_face, w_face], axis=1)  # the face region
     regions = [  # (where, barycentric), later rows win: vertices before edges before face
         ((vc <= 0) & (d1 - d3 != 0) & (d1 >= 0) & (d3 <= 0), _bary(n, 0, 1, t_ab)),
         ((vb <= 0) & (d2 - d6 != 0) & (d2 >= 0) & (d6 <= 0), _bary(n, 0, 2, t_ac)),
