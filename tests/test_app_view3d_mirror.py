@@ -101,8 +101,14 @@ def test_the_3d_mirror_paints_both_sides_in_one_step_and_shows_its_plane(window,
     qtbot.keyClick(window.canvas, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert window.session.steps == steps and not layer.coverage(full).any()  # both halves
 
+    saved = window.editor_state()  # what a project keeps: the plane, chosen again on open
+    assert saved["view3d_mirror"] == {"axis": "x", "offset": 0.0}
     dock.mirror_combo.setCurrentIndex(dock.mirror_combo.findData(None))
     assert viewport.mirror_plane is None
+    window.apply_editor_state({**saved, "view3d_mirror": {"axis": "z", "offset": 0.25}})
+    assert viewport.mirror_plane == MirrorPlane("z", 0.25)
+    window.apply_editor_state({**saved, "view3d_mirror": {"axis": "w", "offset": "far"}})
+    assert viewport.mirror_plane is None and dock.mirror_offset.value() == 0.0
     drag(viewport, points)
     alone = layer.coverage(full)
     window.session.history.undo()

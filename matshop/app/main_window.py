@@ -309,6 +309,7 @@ class MainWindow(QMainWindow):
             "parameter": self.canvas.parameter,
             "brush": self.brush_settings.to_json(),
             "swatch": self.swatch_model.to_json(),
+            "view3d_mirror": self.view3d.mirror_state(),
         }
 
     def apply_editor_state(self, state: dict[str, Any]) -> None:
@@ -322,6 +323,7 @@ class MainWindow(QMainWindow):
             self.show_parameter(state["parameter"])
         self.brush_settings.load_json(state.get("brush"))
         self.swatch_model.load_json(state.get("swatch"))
+        self.view3d.load_mirror_state(state.get("view3d_mirror"))
 
     def _document_replaced(self) -> None:
         doc = self.session.doc

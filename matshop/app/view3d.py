@@ -29,6 +29,7 @@ thread never computes a slow filter for the 3D view.
 from __future__ import annotations
 
 import functools
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -296,6 +297,19 @@ class View3DDock(QDockWidget):
 
         return MirrorPlane(axis, self.mirror_offset.value())
 
+    def mirror_state(self) -> dict[str, Any]:
+        """The mirror's choice, for the project's editor state."""
+        return {"axis": self.mirror_combo.currentData(), "offset": self.mirror_offset.value()}
+
+    def load_mirror_state(self, data: Any) -> None:
+        """Choose the mirror a project saved (anything unreadable: the mirror is off)."""
+        data = data if isinstance(data, dict) else {}
+        index = self.mirror_combo.findData(data.get("axis"))
+        offset = data.get("offset", 0.0)
+        finite = isinstance(offset, int | float) and math.isfinite(offset)
+        self.mirror_offset.setValue(offset if finite else 0.0)
+        self.mirror_combo.setCurrentIndex(max(index, 0) if data.get("axis") else 0)
+
     def _mirror_changed(self) -> None:
         self.mirror_offset.setEnabled(self.mirror_combo.currentData() is not None)
         if self.viewport is not None:
@@ -346,6 +360,7 @@ class View3DDock(QDockWidget):
             self.note.setText(f"3D view unavailable: {problem}")
             self.stack.setCurrentWidget(self.note)
             self.mesh_combo.setEnabled(False)
+            self.mirror_combo.setEnabled(False)
             return None
         self.viewport = _viewport_class()(self)
         self.stack.addWidget(self.viewport)
