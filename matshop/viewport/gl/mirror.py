@@ -61,11 +61,12 @@ class MirrorPlane:
         centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))
         return centre + self.offset * self.normal
 
-    def reflect(self, points: np.ndarray, mesh: MeshData) -> np.ndarray:
-        """``points (..., 3)`` reflected across the plane."""
+    def reflect(self, points: np.ndarray, through: np.ndarray) -> np.ndarray:
+        """``points (..., 3)`` reflected across the plane through point ``through``
+        (:meth:`point`, computed once per mesh by the caller)."""
         k = AXES.index(self.axis)
         out = np.array(points, dtype=np.float64)
-        out[..., k] = 2.0 * self.point(mesh)[k] - out[..., k]
+        out[..., k] = 2.0 * through[k] - out[..., k]
         return out
 
     def reflect_vector(self, vectors: np.ndarray) -> np.ndarray:
@@ -138,6 +139,7 @@ class MeshMirror:
         self.mesh = mesh
         self.plane = plane
         self.uv_scale = np.asarray(uv_scale, dtype=np.float64)
+        self._through = plane.point(mesh)
         corners = mesh.positions.astype(np.float64)[mesh.indices.astype(np.int64)]
         self._corners = corners  # (T, 3, 3)
         centroids = corners.mean(axis=1)
@@ -158,7 +160,7 @@ class MeshMirror:
 
     def image(self, hit: SurfaceHit) -> SurfaceHit:
         """The dab frame of ``hit`` mirrored: on the surface nearest to its reflection."""
-        target = self.plane.reflect(hit.position, self.mesh)
+        target = self.plane.reflect(hit.position, self._through)
         triangle, position, bary = self.closest(target)
         corners = self.mesh.indices[triangle].astype(np.int64)
         normal = bary @ self.mesh.normals[corners].astype(np.float64)
