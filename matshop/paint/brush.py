@@ -8,7 +8,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InvalidValue
+from .dynamics import Dynamics
 from .pressure import CONSTANT, PressureCurve
+from .tips import Tip, tip_footprint
 
 
 @dataclass(frozen=True)
@@ -32,6 +34,11 @@ class Brush:
     size_pressure, opacity_pressure, flow_pressure : PressureCurve
         Pressure -> factor on the radius, on the opacity a dab builds the
         stroke up to, and on each dab's flow. ``CONSTANT`` switches a target off.
+    tip : Tip, optional
+        A grayscale tip image stamped instead of the round dab (hardness then
+        does not apply); None: the round dab.
+    dynamics : Dynamics
+        Tip angle, size and angle jitter, scatter (any tip, round included).
     """
 
     radius_px: float = 16.0
@@ -42,6 +49,8 @@ class Brush:
     size_pressure: PressureCurve = field(default_factory=PressureCurve)
     opacity_pressure: PressureCurve = field(default_factory=lambda: PressureCurve(CONSTANT))
     flow_pressure: PressureCurve = field(default_factory=lambda: PressureCurve(CONSTANT))
+    tip: Tip | None = None
+    dynamics: Dynamics = field(default_factory=Dynamics)
 
     def __post_init__(self) -> None:
         checks = {
@@ -73,6 +82,14 @@ class Brush:
     def step_at(self, pressure: float) -> float:
         """Distance to the next dab, in texels."""
         return max(self.spacing * 2.0 * self.radius_at(pressure), 0.5)
+
+    def footprint(
+        self, x: float, y: float, radius_px: float, angle_deg: float
+    ) -> tuple[int, int, np.ndarray]:
+        """One dab's alpha ``(x0, y0, alpha)``: the tip image, or the round dab."""
+        if self.tip is None:
+            return dab_footprint(x, y, radius_px, self.hardness)  # round: the angle is moot
+        return tip_footprint(x, y, radius_px, angle_deg, self.tip)
 
 
 def dab_footprint(

@@ -16,6 +16,11 @@ Dabs that cross the image edge wrap to the other side (tiling textures) unless
 ``wrap=False``. Samples and dab centres are continuous texel coordinates.
 With a :class:`~.symmetry.Symmetry`, every dab is stamped with its mirror
 images too, into the same stroke buffer: one stroke, one undo step.
+
+Each dab goes through the brush's :class:`~.dynamics.Dynamics` (jitter,
+scatter, tip angle; seeded by the stroke's ``seed``), is stamped with the
+brush's tip, and, with a :class:`~.stencil.Stencil`, is multiplied by what
+the stencil lets through there.
 """
 
 from __future__ import annotations
@@ -35,7 +40,9 @@ from ..layers.layer import Layer, PaintLayer
 from ..layers.tiles import TileGrid
 from ..layers.transaction import PaintTransaction
 from ..ops.spec import MAX_OFFSET_PX
-from .brush import Brush, dab_footprint
+from .brush import Brush
+from .dynamics import DabShaper
+from .stencil import Stencil
 from .stroke import Dab, Stroker, StrokeSample
 from .swatch import Swatch
 from .symmetry import NONE, Symmetry, mirrored_footprints
@@ -93,6 +100,10 @@ class StrokeSession:
         top/bottom, ``"xy"``: both), through the texture's middle or the
         symmetry's own centre; a mirror image reaching past the border wraps or
         is clipped as ``wrap`` says (:mod:`.symmetry`); paint and erase strokes only.
+    seed : int
+        Seeds the brush's random dynamics: the same seed, the same stroke.
+    stencil : Stencil, optional
+        Masks every dab (in texel space; the editor places it from the screen).
     history : History, optional
         Where :meth:`end` pushes the stroke as one step.
     """
@@ -110,6 +121,8 @@ class StrokeSession:
         clone_offset: tuple[float, float] = (0.0, 0.0),
         wrap: bool = True,
         symmetry: Symmetry | str = NONE,
+        seed: int = 0,
+        stencil: Stencil | None = None,
         history: History | None = None,
         label: str | None = None,
     ) -> None:
@@ -140,7 +153,12 @@ class StrokeSession:
         self.target = target
         self.wrap = wrap
         self.symmetry = symmetry
+        self.seed = seed
+        self.stencil = stencil
+        self._shaper = DabShaper(brush.dynamics, seed)
         self.history = history
+        #: every sample fed, in order (what a stroke file of this stroke lists)
+        self.samples: list[StrokeSample] = []
         self._values: np.ndarray | float = 0.0
         self._channels: np.ndarray | None = None
         #: the edit (already applied) that made the layer fit the swatch, undone with the stroke
@@ -179,13 +197,20 @@ class StrokeSession:
 
     def add(self, samples: Iterable[StrokeSample]) -> list[Dab]:
         """Feed input samples; paints the dabs they place and returns them."""
+        samples = list(samples)
+        self.samples += samples
         dabs = self._stroker.add(samples)
         for dab in dabs:
             self._stamp(dab)
         return dabs
 
     def _stamp(self, dab: Dab) -> None:
-        x0, y0, footprint = dab_footprint(dab.x, dab.y, dab.radius_px, self.brush.hardness)
+        placed = self._shaper.place(dab.x, dab.y, dab.radius_px, dab.direction)
+        x0, y0, footprint = self.brush.footprint(
+            placed.x, placed.y, placed.radius_px, placed.angle_deg
+        )
+        if self.stencil is not None:
+            footprint = footprint * self.stencil.mask(x0, y0, *footprint.shape)
         doc = self.doc
         images = mirrored_footprints(x0, y0, footprint, doc.width, doc.height, self.symmetry)
         for x, y, alpha in images:
@@ -232,6 +257,8 @@ class StrokeSession:
         Returns None, and leaves no trace, when the stroke changed no texel (an
         eraser over nothing, a mask painted with the value it already has).
         """
+        for dab in self._stroker.finish():  # a click with a brush that waited for a direction
+            self._stamp(dab)
         if not self._transaction.changed:
             self.cancel()
             return None
