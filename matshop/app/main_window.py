@@ -35,6 +35,7 @@ from ..viewport.canvas import TextureCanvas
 from ..viewport.display import display_mode, format_values
 from .action_rules import ENABLED_WHEN
 from .background import BackgroundFlatten
+from .brush_images import choose_stencil, choose_tip
 from .busy_indicator import BusyIndicator
 from .curves_dialog import CurvesDialog
 from .files import FileController
@@ -80,6 +81,7 @@ class MainWindow(QMainWindow):
             self.swatch_model,
             self.show_message,
             lambda: self.background.ready,
+            stencil=lambda: self.canvas.texel_stencil(),
         )
         self.tools: dict[str, Tool] = {cls.name: cls(self.host) for cls in TOOL_CLASSES}
         self.curves_dialog: CurvesDialog | None = None
@@ -209,6 +211,9 @@ class MainWindow(QMainWindow):
         self.tool_panel = ToolPanel(
             self.brush_settings, self.swatch_model, library=self.swatch_library
         )
+        self.tool_panel.tip_panel.loadRequested.connect(lambda: choose_tip(self))
+        self.tool_panel.stencil_panel.loadRequested.connect(lambda: choose_stencil(self))
+        self.canvas.set_stencil(self.brush_settings.stencil)
         self.layers_panel = LayersPanel(self.session, self.layer_commands, self.actions_by_name)
         self.properties_panel = PropertiesPanel(self.session, self.layer_commands)
         self.history_panel = HistoryPanel(self.session)

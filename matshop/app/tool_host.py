@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ..layers import Document, Edit, PaintLayer, Rect
-from ..paint import Brush, Swatch, Symmetry
+from ..paint import Brush, Stencil, Swatch, Symmetry
 from ..tools.settings import BrushSettings, SwatchModel
 from .layer_commands import LayerCommands
 from .session import DocumentSession
@@ -22,6 +22,7 @@ class EditorToolHost:
         swatch_model: SwatchModel,
         message: Callable[[str], None],
         flatten_ready: Callable[[], bool] = lambda: True,
+        stencil: Callable[[], Stencil | None] = lambda: None,
     ) -> None:
         self.session = session
         self.commands = commands
@@ -29,6 +30,7 @@ class EditorToolHost:
         self.swatch_model = swatch_model
         self.message = message
         self.flatten_ready = flatten_ready
+        self.stencil = stencil
 
     @property
     def doc(self) -> Document | None:
@@ -39,6 +41,9 @@ class EditorToolHost:
 
     def symmetry(self) -> Symmetry:
         return self.brush_settings.symmetry
+
+    def stroke_seed(self) -> int:
+        return self.brush_settings.tips.next_seed()
 
     def swatch(self) -> Swatch:
         return self.swatch_model.swatch()

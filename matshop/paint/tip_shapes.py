@@ -46,14 +46,14 @@ def _segment_distance(
 
 
 def scratches(seed: int) -> np.ndarray:
-    """Thin strokes of varying strength, roughly parallel, as wear leaves them."""
+    """Thin strokes of varying strength along the tip's x axis (so "follow stroke" drags them
+    along the stroke), as wear leaves them."""
     rng = np.random.default_rng(seed)
     x, y = _grid()
     pixel = 2.0 / SIZE
     image = np.zeros((SIZE, SIZE))
-    heading = rng.uniform(0.0, np.pi)
     for _ in range(18):
-        angle = heading + rng.normal(0.0, 0.25)
+        angle = rng.normal(0.0, 0.2)
         length = rng.uniform(0.4, 1.4)
         cx, cy = rng.uniform(-0.6, 0.6, 2)
         half = 0.5 * length * np.array([np.cos(angle), np.sin(angle)])

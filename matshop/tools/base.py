@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
     from ..layers import Document, Edit
-    from ..paint import Brush, Swatch, Symmetry
+    from ..paint import Brush, Stencil, Swatch, Symmetry
 
 
 @dataclass(frozen=True)
@@ -44,6 +44,14 @@ class ToolHost(Protocol):
 
     def symmetry(self) -> Symmetry:
         """Which centre lines the brush and eraser mirror their strokes across."""
+        ...
+
+    def stroke_seed(self) -> int:
+        """The seed of a stroke starting now (its jitter and scatter); each stroke gets another."""
+        ...
+
+    def stencil(self) -> Stencil | None:
+        """The stencil over the canvas, placed in texel space for the current view."""
         ...
 
     def swatch(self) -> Swatch:

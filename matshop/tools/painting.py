@@ -6,7 +6,10 @@ paint layer, or into the active layer's mask while its thumbnail is selected
 every move feeds it a sample, release ends it and hands the single edit to
 the host's history, so a stroke is one undo step; a stroke that changes
 nothing leaves no step. With symmetry on, a brush or eraser stroke (pixels or
-mask) paints its mirror images in the same stroke. :meth:`StrokeTool.action`
+mask) paints its mirror images in the same stroke. Every stroke takes the
+brush's tip and dynamics, a fresh seed and the stencil (if one is over the
+canvas); :attr:`StrokeTool.last_stroke` is the finished stroke as a stroke
+file writes it (``matshop paint`` replays it byte-identically). :meth:`StrokeTool.action`
 says beforehand what a press will do (the status bar shows it). Engine refusals become a status
 message, never an exception in the event loop.
 """
@@ -19,6 +22,7 @@ from ..errors import MatshopError
 from ..layers import Layer, PaintLayer
 from ..paint import StrokeSample, StrokeSession
 from ..paint.painter import stroke_parameters
+from ..paint.strokefile import stroke_json
 from .base import Tool, ToolEvent, ToolHost
 from .seamless_clone import SeamlessCloneTool
 
@@ -46,6 +50,9 @@ class StrokeTool(Tool):
     def __init__(self, host: ToolHost) -> None:
         super().__init__(host)
         self._session: StrokeSession | None = None
+        self._used: dict = {}
+        #: the last finished stroke in stroke-file form (None: none yet)
+        self.last_stroke: dict | None = None
 
     @property
     def busy(self) -> bool:
@@ -74,13 +81,18 @@ class StrokeTool(Tool):
             return
         if self.mirrors:
             options = {**options, "symmetry": self.host.symmetry()}
+        options = {
+            **options,
+            "mode": self.mode,
+            "seed": self.host.stroke_seed(),
+            "stencil": self.host.stencil(),
+        }
         try:
-            self._session = StrokeSession(
-                doc, layer_id, self.host.brush(), mode=self.mode, **options
-            )
+            self._session = StrokeSession(doc, layer_id, self.host.brush(), **options)
         except MatshopError as exc:  # the engine's sentence says what to change
             self.host.message(str(exc))
             return
+        self._used = options
         if self._session.note:
             self.host.message(self._session.note[0].upper() + self._session.note[1:])
         self._session.add([_sample(event)])
@@ -103,6 +115,10 @@ class StrokeTool(Tool):
         session.add([_sample(event)])
         edit = session.end()
         if edit is not None:
+            layer = session.doc.layer(session.layer_id).name
+            self.last_stroke = stroke_json(
+                session.brush, session.samples, layer=layer, **self._used
+            )
             self.host.push(edit)
 
     def cancel(self) -> None:

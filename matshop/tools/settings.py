@@ -19,6 +19,7 @@ from ..layers import Document, Rect
 from ..material import PARAMETER_KINDS
 from ..paint import Brush, PressureCurve, Swatch, Symmetry
 from ..paint.pressure import CONSTANT, LINEAR
+from .tip_settings import StencilSettings, TipSettings
 
 
 def short_label(parameter: str) -> str:
@@ -70,6 +71,11 @@ class BrushSettings(QObject):
         #: the pen's pressure curve, and which of size, opacity and flow it drives
         self.pressure_curve = PressureCurve(LINEAR)
         self.pressure_targets = {name: on for name, (_, on) in PRESSURE_TARGETS.items()}
+        #: the tip and its dynamics (part of the brush: changes are brush changes)
+        self.tips = TipSettings()
+        self.tips.changed.connect(self.changed)
+        #: the stencil over the canvas (not saved: an image placed on this screen)
+        self.stencil = StencilSettings()
 
     def set_pressure_curve(self, points) -> None:
         """A new pressure curve through ``points`` (checked like any :class:`PressureCurve`)."""
@@ -104,7 +110,7 @@ class BrushSettings(QObject):
             field: self.pressure_curve if self.pressure_targets[target] else constant
             for target, (field, _) in PRESSURE_TARGETS.items()
         }
-        return Brush(**self.values, **curves)
+        return Brush(**self.values, **curves, tip=self.tips.tip(), dynamics=self.tips.dynamics())
 
     def set(self, name: str, value: float) -> None:
         spec = next(s for s in BRUSH_SETTINGS if s.name == name)
@@ -125,6 +131,7 @@ class BrushSettings(QObject):
             "curve": [list(p) for p in self.pressure_curve.points],
             **self.pressure_targets,
         }
+        data["tip"] = self.tips.to_json()
         return data
 
     def load_json(self, data: Any) -> None:
@@ -147,6 +154,7 @@ class BrushSettings(QObject):
                 for target in PRESSURE_TARGETS:
                     if isinstance(pressure.get(target), bool):
                         self.set_pressure_target(target, pressure[target])
+            self.tips.load_json(data.get("tip"))
 
 
 #: Physical defaults of a fresh swatch: a rusty iron a user can see on any material.

@@ -33,6 +33,7 @@ from .curve_editor import CurveEditor
 from .curve_points import CurvePoints
 from .settings import BRUSH_SETTINGS, PRESSURE_TARGETS, BrushSettings, SwatchModel, short_label
 from .swatch_library_panel import SwatchLibraryPanel
+from .tip_panel import StencilPanel, TipPanel
 from .widgets import (
     ColorButton,
     FloatSlider,
@@ -331,10 +332,14 @@ class ToolPanel(QWidget):
         self.hint.setObjectName("hint")
         self.hint.setWordWrap(True)
         self.brush_panel = BrushPanel(brush)
+        self.tip_panel = TipPanel(brush.tips)
+        self.stencil_panel = StencilPanel(brush.stencil)
         self.swatch_editor = SwatchEditor(swatch)
         layout.addWidget(self.title)
         layout.addWidget(self.hint)
         layout.addWidget(self.brush_panel)
+        layout.addWidget(self.tip_panel)
+        layout.addWidget(self.stencil_panel)
         layout.addWidget(self.swatch_editor)
         self.library_panel: SwatchLibraryPanel | None = None
         if library is not None:
@@ -347,8 +352,9 @@ class ToolPanel(QWidget):
         self.hint.setText(tip)
         # settings a tool ignores are hidden, not just greyed: in the dark theme a
         # disabled slider still reads as a setting that matters
-        self.brush_panel.setEnabled(uses_brush)
-        self.brush_panel.setVisible(uses_brush)
+        for panel in (self.brush_panel, self.tip_panel, self.stencil_panel):
+            panel.setEnabled(uses_brush)
+            panel.setVisible(uses_brush)
         self.swatch_editor.setEnabled(uses_swatch)
         if self.library_panel is not None:
             self.library_panel.setEnabled(uses_swatch)

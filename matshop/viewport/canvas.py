@@ -5,7 +5,9 @@ copy). The document's ``dirty`` notifications mark tiles stale; a zero-delay
 timer converts them in slices of about a frame, visible tiles first, and
 repaints just those. Mouse and tablet input goes to the current tool in
 texel coordinates; the wheel zooms around the cursor, the middle button or
-Space+drag pans.
+Space+drag pans. A stencil (:class:`~matshop.tools.tip_settings.StencilSettings`)
+is drawn over the texture, fixed on the screen; while it is being placed, a
+drag moves it, the wheel scales it and Shift+wheel turns it.
 """
 
 from __future__ import annotations
@@ -27,10 +29,13 @@ from PySide6.QtGui import (
 from PySide6.QtWidgets import QWidget
 
 from ..layers import DirtyRegion, Document, Rect
+from ..paint.stencil import Stencil
 from ..paint.symmetry import Symmetry
 from ..tools.base import Tool, ToolEvent
+from ..tools.tip_settings import StencilSettings
 from .display_cache import DisplayCache
 from .mipmaps import level_for_zoom
+from .stencil_overlay import StencilOverlay
 from .view import ViewTransform
 
 BACKGROUND = QColor(30, 31, 34)
@@ -75,6 +80,9 @@ class TextureCanvas(QWidget):
         self._had_outlines = False
         #: the brush's mirror axes: their lines are drawn, and the cursor's mirror images
         self.symmetry = Symmetry()
+        #: the stencil over the canvas (its settings; none until :meth:`set_stencil`)
+        self.stencil: StencilOverlay | None = None
+        self._stencil_from: QPointF | None = None  # a drag moving the stencil
         #: the lit display: a rendered image drawn over the texture (None: not yet rendered)
         self.lit = False
         self.overlay: QImage | None = None
@@ -152,6 +160,20 @@ class TextureCanvas(QWidget):
         if symmetry != self.symmetry:
             self.symmetry = symmetry
             self.update()
+
+    def set_stencil(self, settings: StencilSettings) -> None:
+        """Draw ``settings``' stencil over the texture and place it with the pointer."""
+        self.stencil = StencilOverlay(settings)
+        settings.changed.connect(self.update)
+
+    def texel_stencil(self) -> Stencil | None:
+        """The stencil where it lies over the texture now, in texel space (for a stroke)."""
+        if self.stencil is None:
+            return None
+        return self.stencil.settings.in_texels(self.view.to_texel, self.view.zoom)
+
+    def _placing(self) -> bool:
+        return self.stencil is not None and self.stencil.settings.placing
 
     def _mirror_images(self, x: float, y: float) -> list[tuple[float, float]]:
         """Where a dab at texel (x, y) is mirrored to (without (x, y) itself)."""
@@ -299,6 +321,8 @@ class TextureCanvas(QWidget):
             self._draw_texture(painter, target, visible)
         if self.lit and self.overlay is not None and visible is not None and not visible.empty:
             self._draw_overlay(painter, target, visible)
+        if self.stencil is not None:
+            self.stencil.draw(painter)
         self._paint_outlines(painter)
         self._paint_mirror_lines(painter)
         self._paint_cursor(painter)
@@ -497,6 +521,8 @@ class TextureCanvas(QWidget):
         elif event.button() == Qt.MouseButton.RightButton and self.lit:
             self._lighting = True
             self._light_at(event.position())
+        elif event.button() == Qt.MouseButton.LeftButton and self._placing():
+            self._stencil_from = event.position()
         elif event.button() == Qt.MouseButton.LeftButton and self._on_mirror_handle(
             event.position()
         ):
@@ -517,6 +543,10 @@ class TextureCanvas(QWidget):
             self._view_changed()
         elif self._lighting:
             self._light_at(pos)
+        elif self._stencil_from is not None and self.stencil is not None:
+            delta = pos - self._stencil_from
+            self._stencil_from = pos
+            self.stencil.settings.move_by(delta.x(), delta.y())
         elif self._dragging_centre:
             self._drag_centre(pos)
         elif self.tool is not None and self.tool.busy:
@@ -530,6 +560,8 @@ class TextureCanvas(QWidget):
             self.unsetCursor()
         elif event.button() == Qt.MouseButton.RightButton and self._lighting:
             self._lighting = False
+        elif event.button() == Qt.MouseButton.LeftButton and self._stencil_from is not None:
+            self._stencil_from = None
         elif event.button() == Qt.MouseButton.LeftButton and self._dragging_centre:
             self._dragging_centre = False
             self._drag_centre(event.position())
@@ -543,8 +575,10 @@ class TextureCanvas(QWidget):
         kind = event.type()
         pos = event.position()
         on_handle = kind == QEvent.Type.TabletPress and self._on_mirror_handle(pos)
-        if self.tool is None or self._space or on_handle or self._dragging_centre:
-            event.ignore()  # panning and the mirror handle go through the mouse path
+        placing = self._placing() or self._dragging_centre
+        if self.tool is None or self._space or on_handle or placing:
+            # panning, the mirror handle and placing the stencil go through the mouse path
+            event.ignore()
             return
         self._track(pos)
         tool_event = self._tool_event(pos, float(event.pressure()), event.modifiers())
@@ -559,7 +593,13 @@ class TextureCanvas(QWidget):
 
     def wheelEvent(self, event: QWheelEvent) -> None:  # noqa: N802 - Qt override
         steps = event.angleDelta().y()
-        if steps:
+        if steps and self._placing() and self.stencil is not None:
+            settings = self.stencil.settings
+            if event.modifiers() & Qt.KeyboardModifier.ShiftModifier:
+                settings.set_angle(settings.angle_deg + steps / 8.0)  # a notch: 15 degrees
+            else:
+                settings.set_scale(settings.scale * WHEEL_STEP**steps)
+        elif steps:
             self.zoom_by(WHEEL_STEP**steps, event.position())
         event.accept()
 
