@@ -263,3 +263,25 @@ def test_bad_seeds_and_stencils_are_one_line(
     err = capfd.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "bad.json" in err[0] and message in err[0], err
     assert project.read_bytes() == before
+
+
+def test_the_readme_stroke_file_replays(tmp_path: Path, project: Path) -> None:
+    """The README's tips-and-stencil stroke file, as written, with the images it names."""
+    import re
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    section = text[text.index("### Brush tips and stencils") :]
+    stroke = re.search(r"```json\n(.*?)```", section, re.S).group(1)
+    (tmp_path / "tips").mkdir()
+    (tmp_path / "stencils").mkdir()
+    rows, cols = np.mgrid[0:64, 0:64]
+    cv2.imwrite(
+        str(tmp_path / "tips" / "leaf.png"),
+        (255 * (np.hypot(rows - 32, cols - 32) < 28)).astype(np.uint8),
+    )
+    cv2.imwrite(
+        str(tmp_path / "stencils" / "letters.png"), (255 * (cols % 16 < 8)).astype(np.uint8)
+    )
+    (tmp_path / "readme.json").write_text(stroke)
+    assert main(["paint", str(project), "--stroke", str(tmp_path / "readme.json")]) == 0
+    assert coverage(project).max() > 0.5
