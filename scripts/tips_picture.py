@@ -73,7 +73,9 @@ def main() -> None:
     size = round(512 * canvas.view.zoom)
     margin = 24
     image = image.copy(
-        round(top_left.x()) - margin, round(top_left.y()) - margin, size + 2 * margin,
+        round(top_left.x()) - margin,
+        round(top_left.y()) - margin,
+        size + 2 * margin,
         size + 2 * margin,
     )
     out = ROOT / "docs" / "editor" / "tips_and_stencil.png"

@@ -169,6 +169,7 @@ def test_a_half_stencil_placed_on_screen_paints_exactly_its_open_half(window, qt
     load_stencil_from_panel(window, qtbot, path)
     settings = window.brush_settings.stencil
     assert window.tool_panel.stencil_panel.name.text() == "half.png"
+    assert window.tool_label.text().endswith(", through the stencil")  # the status bar
 
     # drawn half transparent: the black half darkens the texture, the white half does not
     spin(50)
@@ -213,7 +214,7 @@ def test_a_half_stencil_placed_on_screen_paints_exactly_its_open_half(window, qt
         canvas.flush()
         canvas.grab().save(str(SHOTS / "stencil_stroke.png"))
     qtbot.mouseClick(panel.clear, Qt.MouseButton.LeftButton)
-    assert settings.stencil is None
+    assert settings.stencil is None and "stencil" not in window.tool_label.text()
     qtbot.keyClick(canvas, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert not layer.coverage(full).any()
     drag(canvas, points)

@@ -134,6 +134,7 @@ class MainWindow(QMainWindow):
             self.session.historyChanged,
             self.swatch_model.changed,
             self.brush_settings.changed,  # the mirror toggles
+            self.brush_settings.stencil.changed,  # "through the stencil"
         ):
             signal.connect(self.update_tool_action)
 

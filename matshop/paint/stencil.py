@@ -42,9 +42,12 @@ class Stencil:
     _pyramid: Pyramid | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
-        image = np.ascontiguousarray(self.image, dtype=np.float32)
-        if image.ndim != 2 or min(image.shape) < 1 or not np.isfinite(image).all():
-            raise InvalidValue("a stencil is a finite 2D gray image")
+        if self._pyramid is None:  # a new image (:meth:`placed` shares a checked one)
+            image = np.ascontiguousarray(self.image, dtype=np.float32)
+            if image.ndim != 2 or min(image.shape) < 1 or not np.isfinite(image).all():
+                raise InvalidValue("a stencil is a finite 2D gray image")
+            object.__setattr__(self, "image", np.clip(image, 0.0, 1.0))
+            object.__setattr__(self, "_pyramid", Pyramid(self.image, "clamp"))
         numbers = (*self.centre, self.scale, self.angle_deg)
         if len(self.centre) != 2 or not all(math.isfinite(v) for v in numbers):
             raise InvalidValue("stencil centre, scale and angle must be finite numbers")
@@ -53,9 +56,6 @@ class Stencil:
                 f"stencil scale must lie in [{MIN_SCALE:g}, {MAX_SCALE:g}] texels a pixel, "
                 f"got {self.scale:g}"
             )
-        if self._pyramid is None:
-            object.__setattr__(self, "image", np.clip(image, 0.0, 1.0))
-            object.__setattr__(self, "_pyramid", Pyramid(self.image, "clamp"))
 
     def placed(self, centre: tuple[float, float], scale: float, angle_deg: float) -> Stencil:
         """The same image somewhere else (its pyramid is shared, not rebuilt)."""

@@ -143,6 +143,8 @@ class StrokeTool(Tool):
                     if on
                 )
             text += f" (mirrored {axes}{where})"
+        if text and self.host.stencil() is not None:
+            text += ", through the stencil"
         return text
 
     def _action(self) -> str:
