@@ -29,13 +29,23 @@ def sample_block(
     height, width = values.shape
     for row in range(height):
         dy = y0 + row + 0.5 - cy
+        dx = x0 + 0.5 - cx
+        # image position of the row's first texel, then one step a texel (affine: exact enough,
+        # each row restarts from its own start)
+        u = m00 * dx + m01 * dy + half_w
+        v = m10 * dx + m11 * dy + half_h
         for col in range(width):
-            dx = x0 + col + 0.5 - cx
-            u = m00 * dx + m01 * dy + half_w
-            v = m10 * dx + m11 * dy + half_h
+            if col:
+                u += m00
+                v += m10
             inside[row, col] = 0.0 <= u <= 2.0 * half_w and 0.0 <= v <= 2.0 * half_h
-            x = min(max(u / factor + 0.5, lo_x), hi_x)  # -0.5 to pixel centres, +1 for the border
-            y = min(max(v / factor + 0.5, lo_y), hi_y)
+            x = u / factor + 0.5  # -0.5 to pixel centres, +1 for the border
+            y = v / factor + 0.5
+            if not clamp and (x <= lo_x or x >= hi_x or y <= lo_y or y >= hi_y):
+                values[row, col] = 0.0  # on or past the zero border
+                continue
+            x = min(max(x, lo_x), hi_x)
+            y = min(max(y, lo_y), hi_y)
             i0 = int(math.floor(x))
             j0 = int(math.floor(y))
             fx = x - i0
