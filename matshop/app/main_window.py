@@ -12,7 +12,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from PySide6.QtCore import QSettings, QSize, Qt
+from PySide6.QtCore import QSettings, QSize, Qt, QThreadPool
 from PySide6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent, QFont
 from PySide6.QtWidgets import (
     QComboBox,
@@ -26,6 +26,7 @@ from PySide6.QtWidgets import (
 
 from .. import __version__
 from ..layers import Rect
+from ..paint.sampling import warm_up
 from ..tools.base import Tool
 from ..tools.painting import TOOL_CLASSES
 from ..tools.settings import BrushSettings, SwatchModel
@@ -51,6 +52,7 @@ from .session import DocumentSession
 from .settings import AppSettings
 from .tool_host import EditorToolHost
 from .view3d import View3DDock
+from .work import start_worker
 
 
 class MainWindow(QMainWindow):
@@ -215,6 +217,8 @@ class MainWindow(QMainWindow):
         self.tool_panel.tip_panel.loadRequested.connect(lambda: choose_tip(self))
         self.tool_panel.stencil_panel.loadRequested.connect(lambda: choose_stencil(self))
         self.canvas.set_stencil(self.brush_settings.stencil)
+        # off the GUI thread, so the first tip or stencil dab does not wait for numba
+        start_worker(QThreadPool.globalInstance(), warm_up)
         self.layers_panel = LayersPanel(self.session, self.layer_commands, self.actions_by_name)
         self.properties_panel = PropertiesPanel(self.session, self.layer_commands)
         self.history_panel = HistoryPanel(self.session)

@@ -125,3 +125,10 @@ def read_gray(path: str | os.PathLike[str], what: str) -> np.ndarray:
     if info.channels in (2, 4):  # gray+alpha or RGBA: transparent parts let nothing through
         gray = gray * pixels[..., -1]
     return gray
+
+
+def warm_up() -> None:
+    """Load the compiled sampling kernel now (half a second from numba's cache, seconds
+    the first time), so the first tip or stencil dab of a session does not wait for it."""
+    pyramid = Pyramid(np.ones((2, 2), np.float32))
+    sample_placed(pyramid, 0, 0, 1, 1, (0.5, 0.5), 1.0, 0.0)
