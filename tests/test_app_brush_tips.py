@@ -104,6 +104,22 @@ def test_a_tip_from_the_panel_paints_and_replays_through_the_cli(window, qtbot, 
     panel.seed.setValue(6)
     tips = window.brush_settings.tips
     assert (tips.kind, tips.rotation, tips.tip_seed) == ("scratches", "follow", 6)
+    # the preview shows the tip: its mean gray is the tip image's
+    shown = panel.preview.pixmap().toImage()
+    gray = np.array(
+        [
+            [shown.pixelColor(x, y).red() for x in range(shown.width())]
+            for y in range(shown.height())
+        ]
+    )
+    assert abs(gray.mean() / 255 - tips.tip().image.mean()) < 0.03
+    # saved with the project's editor state, restored into fresh settings
+    from matshop.tools.settings import BrushSettings
+
+    restored = BrushSettings()
+    restored.load_json(json.loads(json.dumps(window.brush_settings.to_json())))
+    assert restored.tips.to_json() == tips.to_json()
+    assert restored.brush().tip.source == {"procedural": "scratches", "seed": 6}
     window.brush_settings.set("radius_px", 22.0)
     window.brush_settings.set("spacing", 0.3)
     window.swatch_model.set_value("base_color", (0.9, 0.8, 0.2))

@@ -153,7 +153,6 @@ class StrokeSession:
         self.target = target
         self.wrap = wrap
         self.symmetry = symmetry
-        self.seed = seed
         self.stencil = stencil
         self._shaper = DabShaper(brush.dynamics, seed)
         self.history = history

@@ -10,7 +10,9 @@ it with :attr:`TipPanel.loadRequested` / :attr:`StencilPanel.loadRequested`.
 
 from __future__ import annotations
 
-from PySide6.QtCore import Signal
+import numpy as np
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QImage, QPixmap
 from PySide6.QtWidgets import (
     QComboBox,
     QGroupBox,
@@ -33,6 +35,20 @@ _KIND_LABELS = {
     "image": "Image file",
 }
 _ROTATION_LABELS = {"fixed": "Fixed angle", "follow": "Follow stroke", "random": "Random"}
+PREVIEW_PX = 40
+
+
+def tip_pixmap(image: np.ndarray | None, size: int = PREVIEW_PX) -> QPixmap:
+    """The tip's gray as a small picture (a disc for the round dab)."""
+    if image is None:
+        t = (np.arange(size) + 0.5) / size * 2.0 - 1.0
+        image = np.clip((0.9 - np.hypot(t[None, :], t[:, None])) * 8.0, 0.0, 1.0)
+    codes = np.ascontiguousarray(np.round(np.asarray(image) * 255).astype(np.uint8))
+    height, width = codes.shape
+    picture = QImage(codes.data, width, height, width, QImage.Format.Format_Grayscale8).copy()
+    return QPixmap.fromImage(picture).scaled(
+        size, size, Qt.AspectRatioMode.KeepAspectRatio, Qt.TransformationMode.SmoothTransformation
+    )
 
 
 def _row(label: str, widget: QWidget) -> QHBoxLayout:
@@ -60,7 +76,12 @@ class TipPanel(QGroupBox):
             self.kind.addItem(_KIND_LABELS[kind], kind)
         self.kind.setToolTip("The dab's shape: round, a built-in pattern or a gray image")
         self.kind.activated.connect(self._kind_chosen)
-        layout.addLayout(_row("Tip", self.kind))
+        top = _row("Tip", self.kind)
+        self.preview = QLabel()
+        self.preview.setFixedSize(PREVIEW_PX, PREVIEW_PX)
+        self.preview.setToolTip("The tip as it stamps (white paints)")
+        top.addWidget(self.preview)
+        layout.addLayout(top)
         extra = QHBoxLayout()
         self.seed = QSpinBox()
         self.seed.setRange(0, 2**31 - 1)
@@ -118,6 +139,8 @@ class TipPanel(QGroupBox):
         self.seed.setVisible(s.kind not in ("round", "image"))
         self.image_name.setText(s.image.name if s.image is not None and s.kind == "image" else "")
         self.rotation.setCurrentIndex(list(_ROTATION_LABELS).index(s.rotation))
+        tip = s.tip()
+        self.preview.setPixmap(tip_pixmap(None if tip is None else tip.image))
         for name, slider in self.sliders.items():
             slider.set_value(s.values[name])
 
