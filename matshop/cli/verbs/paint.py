@@ -16,8 +16,9 @@ from ..project import about_project, find_layer, open_project
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = (
         "Replay the strokes of FILE.json (see matshop.paint.strokefile for the "
-        "format: points with pressure, brush settings, a material swatch, erase, mask or "
-        "clone-stamp strokes) into PROJECT, one undoable step per stroke."
+        "format: points with pressure, brush settings with tips, jitter and scatter, a "
+        "material swatch, a seed, a stencil, erase, mask or clone-stamp strokes) into "
+        "PROJECT, one undoable step per stroke."
     )
     parser.add_argument("project", type=Path, metavar="PROJECT")
     parser.add_argument("--stroke", type=Path, required=True, metavar="FILE.json")
