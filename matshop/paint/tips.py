@@ -57,7 +57,7 @@ class Tip:
 
 def procedural_tip(name: str, seed: int = 0) -> Tip:
     """A built-in tip (``noise``, ``scratches``, ``spots``), the same for the same seed."""
-    if name not in SHAPES:
+    if not isinstance(name, str) or name not in SHAPES:
         raise InvalidValue(f"unknown tip {name!r}: one of {', '.join(SHAPES)} or an image file")
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
         raise InvalidValue(f"tip seed must be an integer in [0, 2^63), got {seed!r}")
