@@ -292,3 +292,19 @@ def test_symmetry_mirrors_tip_dabs_as_flips() -> None:
     assert alone.max() > 0.3 and not alone[:, SIZE // 2 :].any()
     mirrored = paint(brush, left, seed=5, symmetry="x")
     np.testing.assert_allclose(mirrored, alone + np.flip(alone, axis=1), atol=1e-6)
+
+
+def test_the_eraser_takes_tips_and_stencils() -> None:
+    doc, layer_id = make_doc()
+    everywhere = [StrokeSample(64.0, 64.0)]
+    paint_stroke(doc, layer_id, everywhere, Brush(radius_px=120, hardness=1), swatch=RED)
+    assert doc.layer(layer_id).coverage(FULL).min() == 1.0
+    tip = procedural_tip("spots", 9)
+    brush = Brush(radius_px=30.0, tip=tip)
+    samples = [StrokeSample(x, y) for x, y in PATH]
+    paint_stroke(doc, layer_id, samples, brush, mode="erase", stencil=half_stencil(), wrap=False)
+    left = doc.layer(layer_id).coverage(FULL)
+    # erased through the open (right) half of the stencil only, as the same stroke paints
+    painted = paint(brush, PATH, stencil=half_stencil())
+    np.testing.assert_allclose(left, 1.0 - painted, atol=1e-6)
+    assert painted[:, 66:114].max() > 0.5 and not painted[14:114, 14:62].any()
