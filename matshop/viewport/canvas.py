@@ -322,7 +322,7 @@ class TextureCanvas(QWidget):
         if self.lit and self.overlay is not None and visible is not None and not visible.empty:
             self._draw_overlay(painter, target, visible)
         if self.stencil is not None:
-            self.stencil.draw(painter)
+            self.stencil.draw(painter, self.size())
         self._paint_outlines(painter)
         self._paint_mirror_lines(painter)
         self._paint_cursor(painter)

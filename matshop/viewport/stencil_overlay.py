@@ -3,13 +3,14 @@
 The picture is the stencil's own gray (white: paint passes) tinted so the
 blocked parts read as a dark sheet over the texture; a dashed frame shows
 its edge (outside it nothing is masked). Large stencils are reduced once for
-display (the mask itself is sampled from the full image).
+display (the mask itself is sampled from the full image), and the stencil is
+rendered over the widget once per place: a repaint is a copy.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QRectF, Qt
+from PySide6.QtCore import QRectF, QSize, Qt
 from PySide6.QtGui import QColor, QImage, QPainter, QPen, QTransform
 
 from ..tools.tip_settings import StencilSettings
@@ -40,6 +41,8 @@ class StencilOverlay:
         self.settings = settings
         self._source: object = None
         self._picture: QImage | None = None
+        self._layer: QImage | None = None  # the stencil rendered over the widget
+        self._key: tuple | None = None
 
     def picture(self) -> QImage | None:
         stencil = self.settings.stencil
@@ -64,22 +67,39 @@ class StencilOverlay:
             self._source = stencil.image
         return self._picture
 
-    def draw(self, painter: QPainter) -> None:
+    def draw(self, painter: QPainter, size: QSize) -> None:
+        """Draw over a widget of ``size``: a blit of the stencil rendered for this place.
+
+        Rendered once per place (size, centre, scale, angle, placing), so the
+        repaints a stroke causes copy pixels instead of resampling the picture.
+        """
         picture = self.picture()
         stencil = self.settings.stencil
         if picture is None or stencil is None:
+            self._layer = None
             return
-        h, w = stencil.image.shape
-        painter.save()
+        s = self.settings
+        key = (id(picture), size.width(), size.height(), s.centre, s.scale, s.angle_deg, s.placing)
+        if key != self._key:
+            self._layer = self._render(picture, stencil.image.shape, size)
+            self._key = key
+        painter.drawImage(0, 0, self._layer)
+
+    def _render(self, picture: QImage, shape: tuple[int, ...], size: QSize) -> QImage:
+        h, w = shape
+        layer = QImage(size, QImage.Format.Format_ARGB32_Premultiplied)
+        layer.fill(Qt.GlobalColor.transparent)
+        painter = QPainter(layer)
         painter.setTransform(stencil_transform(self.settings))
         painter.setRenderHint(QPainter.RenderHint.SmoothPixmapTransform, True)
         painter.setOpacity(OPACITY if not self.settings.placing else 0.7)
         painter.drawImage(QRectF(0, 0, w, h), picture)
         painter.setOpacity(1.0)
-        pen = QPen(FRAME, 0, Qt.PenStyle.DashLine)  # cosmetic: one pixel at any scale
+        pen = QPen(FRAME, 0, Qt.PenStyle.DashLine)
         pen.setWidthF(1.5 if self.settings.placing else 1.0)
-        pen.setCosmetic(True)
+        pen.setCosmetic(True)  # the same width at any scale
         painter.setPen(pen)
         painter.setBrush(Qt.BrushStyle.NoBrush)
         painter.drawRect(QRectF(0, 0, w, h))
-        painter.restore()
+        painter.end()
+        return layer
