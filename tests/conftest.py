@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 
@@ -15,6 +16,25 @@ _exit_status = 0
 # the interpreter aborts ("none_dealloc"), even in a bare loop over an empty widget. The
 # suite's waiting loops make that many calls, so hold spare references for the session.
 _SPARE_NONE_REFERENCES = [None] * 2_000_000
+
+
+@pytest.fixture(autouse=True)
+def _delete_closed_widgets():
+    """Delete the widgets pytest-qt closed, before the next test.
+
+    pytest-qt closes a test's widgets and calls ``deleteLater()`` outside any event loop,
+    so Qt deletes them only when some later test spins one; until then each window holds
+    its document, caches and GL textures (measured: ~0.7 GB per 2K window, the suite's
+    process grew to 7.5 GB).
+    """
+    yield
+    if "PySide6" not in sys.modules:
+        return
+    from PySide6.QtCore import QCoreApplication, QEvent
+
+    if QCoreApplication.instance() is not None:
+        QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
+        gc.collect()
 
 
 @pytest.fixture(scope="module")

@@ -32,7 +32,7 @@ install_default_format()
 if no_display_reason() is not None:  # before pytest-qt starts Qt
     pytest.skip(no_display_reason(), allow_module_level=True)
 
-from gl_testing import shown_viewport  # noqa: E402
+from gl_testing import release, shown_viewport  # noqa: E402
 
 from matshop.io.material_io import load_material  # noqa: E402
 from matshop.layers import AddLayer, Document, History  # noqa: E402
@@ -56,7 +56,9 @@ LIGHT = DirectionalLight((-0.5, 0.7, 0.6), (2.0, 2.0, 2.0))
 
 @pytest.fixture
 def viewport(gl_context, qtbot):
-    return shown_viewport(qtbot, SIZE)
+    widget = shown_viewport(qtbot, SIZE)
+    yield widget
+    release(widget)
 
 
 @pytest.fixture(scope="module", params=["sample", "chessboard"])

@@ -32,7 +32,7 @@ install_default_format()  # before pytest-qt creates the QApplication
 if no_display_reason() is not None:
     pytest.skip(no_display_reason(), allow_module_level=True)
 
-from gl_testing import shown_viewport  # noqa: E402
+from gl_testing import release, shown_viewport  # noqa: E402
 from oracle import srgb_encode as srgb  # noqa: E402
 
 from matshop.layers import Document  # noqa: E402
@@ -69,7 +69,8 @@ def viewport(gl_context, qtbot):
     widget.set_mesh(mesh_data.uv_sphere())
     widget.lighting.background = (0.0, 0.0, 0.0)  # the sphere is what is not black
     widget.lighting.samples = 64
-    return widget
+    yield widget
+    release(widget)
 
 
 def draw(viewport, material: Material, **lighting) -> np.ndarray:
