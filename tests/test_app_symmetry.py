@@ -129,9 +129,21 @@ def test_the_mirror_centre_moves_by_its_handle_and_the_panel(window, qtbot) -> N
     assert panel.centre["x"].value() == middle[0] and not panel.centre_reset.isEnabled()
     assert line_pixels_at(window, middle[0]) > 200
 
-    # drag the round handle where the lines cross to texel x = 150.3: snapped to 150.5
+    # the line's round handle sits above the texture's top edge, on the line
+    handle = canvas.mirror_handles()["x"]
+    assert set(canvas.mirror_handles()) == {"x"}
+    assert abs(handle.x() - canvas.to_widget(*middle).x()) < 1e-6
+    assert handle.y() < canvas.to_widget(0, 0).y()
+    # a press on the middle of the line paints (the handle is out of the way) ...
     steps = window.session.steps
-    path = [canvas.to_widget(*middle), canvas.to_widget(120, 300), canvas.to_widget(150.3, 9)]
+    drag(canvas, [canvas.to_widget(*middle)])
+    added = window.session.steps - steps
+    assert added in (1, 2)  # the dab (and the paint layer it made over the fill)
+    for _ in range(added):
+        qtbot.keyClick(canvas, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert window.session.steps == steps
+    # ... and dragging the handle to texel x = 150.3 moves the line: snapped to 150.5
+    path = [handle, canvas.to_widget(120, 300), canvas.to_widget(150.3, 9)]
     drag(canvas, path)
     cx = 150.5
     assert window.brush_settings.symmetry == Symmetry(True, False, (cx, middle[1]))

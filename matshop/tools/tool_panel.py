@@ -156,7 +156,7 @@ class BrushPanel(QGroupBox):
             box.setKeyboardTracking(False)  # one change per finished number, not per digit
             box.setToolTip(
                 f"The mirror line's {axis} in texels (half-texel steps); "
-                "or drag the round handle on the canvas"
+                "or drag the line's round handle at the canvas's texture edge"
             )
             box.valueChanged.connect(self._centre_edited)
             row.addWidget(box, 1)

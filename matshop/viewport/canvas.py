@@ -91,7 +91,8 @@ class TextureCanvas(QWidget):
         self.lit_label = "Lit"
         self._overlay_levels: dict[int, QImage] = {}  # reductions of the overlay for zoom-out
         self._lighting = False
-        self._dragging_centre = False
+        #: the axis whose mirror handle is being dragged (None: none)
+        self._dragging_centre: str | None = None
         #: while set, the flatten is being computed elsewhere: keep the last picture
         self._held: str | None = None
         self._timer = QTimer(self)
@@ -181,25 +182,42 @@ class TextureCanvas(QWidget):
             return []
         return self.symmetry.mirror_point(x, y, self.doc.width, self.doc.height)[1:]
 
-    def mirror_handle(self) -> QPointF | None:
-        """Widget point of the mirror centre's handle (where the lines cross), or None."""
-        if self.doc is None or not self.symmetry:
-            return None
-        return self.to_widget(*self.symmetry.centre_in(self.doc.width, self.doc.height))
+    def mirror_handles(self) -> dict[str, QPointF]:
+        """Widget points of the mirror lines' round handles, by axis (none: no symmetry).
 
-    def _on_mirror_handle(self, pos: QPointF) -> bool:
-        handle = self.mirror_handle()
-        if handle is None:
-            return False
-        return math.hypot(pos.x() - handle.x(), pos.y() - handle.y()) <= MIRROR_HANDLE_PX + 2
+        Each sits at its line's end, just outside the texture (the top edge for the
+        x line, the left edge for the y line), kept inside the widget: out of the
+        way of strokes, which often start on the line itself.
+        """
+        if self.doc is None or not self.symmetry:
+            return {}
+        cx, cy = self.symmetry.centre_in(self.doc.width, self.doc.height)
+        gap = MIRROR_HANDLE_PX + 4
+        handles = {}
+        if self.symmetry.x:
+            top = self.to_widget(cx, 0)
+            y = min(max(top.y() - gap, gap), self.height() - gap)
+            handles["x"] = QPointF(top.x(), y)
+        if self.symmetry.y:
+            left = self.to_widget(0, cy)
+            x = min(max(left.x() - gap, gap), self.width() - gap)
+            handles["y"] = QPointF(x, left.y())
+        return handles
+
+    def _mirror_handle_at(self, pos: QPointF) -> str | None:
+        """The axis whose handle is under ``pos``, or None."""
+        for axis, handle in self.mirror_handles().items():
+            if math.hypot(pos.x() - handle.x(), pos.y() - handle.y()) <= MIRROR_HANDLE_PX + 2:
+                return axis
+        return None
 
     def _drag_centre(self, pos: QPointF) -> None:
-        """Move the handle's mirror line(s) to the cursor (the other coordinate stays)."""
+        """Move the dragged handle's mirror line to the cursor (the other one stays)."""
         assert self.doc is not None
         x, y = self.to_texel(pos)
         cx, cy = self.symmetry.centre_in(self.doc.width, self.doc.height)
-        x = min(max(x, 0.0), self.doc.width) if self.symmetry.x else cx
-        y = min(max(y, 0.0), self.doc.height) if self.symmetry.y else cy
+        x = min(max(x, 0.0), self.doc.width) if self._dragging_centre == "x" else cx
+        y = min(max(y, 0.0), self.doc.height) if self._dragging_centre == "y" else cy
         self.mirrorCentreDragged.emit(x, y)
 
     def _light_at(self, pos: QPointF) -> None:
@@ -453,14 +471,14 @@ class TextureCanvas(QWidget):
             painter.drawLine(start, end)
             painter.setPen(QPen(MIRROR_LINE, 2, Qt.PenStyle.DashLine))
             painter.drawLine(start, end)
-        # the handle that drags the centre: a ring in the line's colour over a dark disc
-        handle = self.to_widget(cx, cy)
-        painter.setPen(QPen(QColor(0, 0, 0, 190), 4))
-        painter.setBrush(QColor(0, 0, 0, 120))
-        painter.drawEllipse(handle, MIRROR_HANDLE_PX, MIRROR_HANDLE_PX)
-        painter.setPen(QPen(MIRROR_LINE, 2))
-        painter.setBrush(Qt.BrushStyle.NoBrush)
-        painter.drawEllipse(handle, MIRROR_HANDLE_PX, MIRROR_HANDLE_PX)
+        # the handles that drag the lines: a ring in the line's colour over a dark disc
+        for handle in self.mirror_handles().values():
+            painter.setPen(QPen(QColor(0, 0, 0, 190), 4))
+            painter.setBrush(QColor(0, 0, 0, 120))
+            painter.drawEllipse(handle, MIRROR_HANDLE_PX, MIRROR_HANDLE_PX)
+            painter.setPen(QPen(MIRROR_LINE, 2))
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+            painter.drawEllipse(handle, MIRROR_HANDLE_PX, MIRROR_HANDLE_PX)
 
     def _tool_input(self) -> None:
         """After the tool saw an event: repaint if it draws outlines (they may have changed)."""
@@ -523,10 +541,10 @@ class TextureCanvas(QWidget):
             self._light_at(event.position())
         elif event.button() == Qt.MouseButton.LeftButton and self._placing():
             self._stencil_from = event.position()
-        elif event.button() == Qt.MouseButton.LeftButton and self._on_mirror_handle(
+        elif event.button() == Qt.MouseButton.LeftButton and self._mirror_handle_at(
             event.position()
         ):
-            self._dragging_centre = True  # the handle, not a stroke
+            self._dragging_centre = self._mirror_handle_at(event.position())  # not a stroke
         elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
             self.tool.press(self._tool_event(event.position(), 1.0, event.modifiers()))
             self._tool_input()
@@ -563,8 +581,8 @@ class TextureCanvas(QWidget):
         elif event.button() == Qt.MouseButton.LeftButton and self._stencil_from is not None:
             self._stencil_from = None
         elif event.button() == Qt.MouseButton.LeftButton and self._dragging_centre:
-            self._dragging_centre = False
             self._drag_centre(event.position())
+            self._dragging_centre = None
         elif event.button() == Qt.MouseButton.LeftButton and self.tool is not None:
             self.tool.release(self._tool_event(event.position(), 1.0, event.modifiers()))
             self._tool_input()
@@ -574,7 +592,7 @@ class TextureCanvas(QWidget):
         """Pen input with pressure; accepted, so Qt synthesises no mouse events."""
         kind = event.type()
         pos = event.position()
-        on_handle = kind == QEvent.Type.TabletPress and self._on_mirror_handle(pos)
+        on_handle = kind == QEvent.Type.TabletPress and self._mirror_handle_at(pos) is not None
         placing = self._placing() or self._dragging_centre
         if self.tool is None or self._space or on_handle or placing:
             # panning, the mirror handle and placing the stencil go through the mouse path
