@@ -31,6 +31,8 @@ from typing import Literal
 import numpy as np
 from numba import get_num_threads, njit, prange
 
+from ._kernels import _PIO2_1, _PIO2_1T, atan2_upper, cos_small, sin_small
+
 YGrid = Literal["cosine", "uniform"]
 Coord = Literal["x", "sin2", "square"]
 
@@ -84,27 +86,31 @@ def _edge_slope(h0, h1, m0, m1):
     return d
 
 
-@njit(cache=True, nogil=True)
-def _pchip_slopes(x, y, n, dk):
-    """Derivatives at the first ``n`` knots into ``dk`` (scipy PchipInterpolator rules)."""
+@njit(cache=True, nogil=True, error_model="numpy")
+def _pchip_slopes(x, y, n, dk, m):
+    """Derivatives at the first ``n`` knots into ``dk`` (scipy PchipInterpolator rules).
+
+    ``m`` is scratch (at least ``n - 1``) for the secant slopes. Written as
+    loops with no value carried from one knot to the next and no branch (a
+    select picks zero or the weighted harmonic mean), so LLVM vectorises them
+    and their divisions; each knot's arithmetic is the textbook formula's in
+    the same order, so the bits are the same as a plain loop's.
+    """
+    for i in range(n - 1):
+        m[i] = (y[i + 1] - y[i]) / (x[i + 1] - x[i])
     if n == 2:
-        m = (y[1] - y[0]) / (x[1] - x[0])
-        dk[0] = m
-        dk[1] = m
+        dk[0] = m[0]
+        dk[1] = m[0]
         return
-    m_prev = (y[1] - y[0]) / (x[1] - x[0])
-    h_prev = x[1] - x[0]
     for i in range(1, n - 1):
+        h_prev = x[i] - x[i - 1]
         h = x[i + 1] - x[i]
-        m = (y[i + 1] - y[i]) / h
-        if m == 0.0 or m_prev == 0.0 or np.sign(m) != np.sign(m_prev):
-            dk[i] = 0.0
-        else:
-            w1 = 2.0 * h + h_prev
-            w2 = h + 2.0 * h_prev
-            dk[i] = (w1 + w2) / (w1 / m_prev + w2 / m)
-        m_prev = m
-        h_prev = h
+        w1 = 2.0 * h + h_prev
+        w2 = h + 2.0 * h_prev
+        # zero at a local extremum or a flat side (and for NaN): same sign or nothing
+        same = ((m[i] > 0.0) & (m[i - 1] > 0.0)) | ((m[i] < 0.0) & (m[i - 1] < 0.0))
+        harmonic = (w1 + w2) / (w1 / m[i - 1] + w2 / m[i])
+        dk[i] = harmonic if same else 0.0
     h0 = x[1] - x[0]
     h1 = x[2] - x[1]
     dk[0] = _edge_slope(h0, h1, (y[1] - y[0]) / h0, (y[2] - y[1]) / h1)
@@ -113,20 +119,25 @@ def _pchip_slopes(x, y, n, dk):
     dk[n - 1] = _edge_slope(h0, h1, (y[n - 1] - y[n - 2]) / h0, (y[n - 2] - y[n - 3]) / h1)
 
 
-@njit(cache=True, nogil=True)
-def _pchip_eval_sorted(x, y, dk, n, xq, out):
+@njit(cache=True, nogil=True, error_model="numpy")
+def _pchip_eval_sorted(x, y, dk, n, xq, out, index):
     """Evaluate the Hermite cubic at increasing ``xq`` by a merge walk.
 
     Queries outside ``[x[0], x[n-1]]`` are extrapolated with the end cubic,
-    like scipy's default ``extrapolate=True``.
+    like scipy's default ``extrapolate=True``. ``index`` is integer scratch
+    (``len(xq)``): the walk only finds each query's interval, the evaluation
+    runs as a separate loop whose divisions no branch holds up.
     """
     i = 0
     for j in range(xq.shape[0]):
         t_x = xq[j]
         while i < n - 2 and t_x > x[i + 1]:
             i += 1
+        index[j] = i
+    for j in range(xq.shape[0]):
+        i = index[j]
         h = x[i + 1] - x[i]
-        t = (t_x - x[i]) / h
+        t = (xq[j] - x[i]) / h
         t2 = t * t
         t3 = t2 * t
         h00 = 2.0 * t3 - 3.0 * t2 + 1.0
@@ -140,8 +151,8 @@ def _pchip_eval_sorted(x, y, dk, n, xq, out):
 def _pchip_kernel(x, y, xq, out):
     n = x.shape[0]
     dk = np.empty(n)
-    _pchip_slopes(x, y, n, dk)
-    _pchip_eval_sorted(x, y, dk, n, xq, out)
+    _pchip_slopes(x, y, n, dk, np.empty(n))
+    _pchip_eval_sorted(x, y, dk, n, xq, out, np.empty(xq.shape[0], dtype=np.int64))
 
 
 def pchip(x: np.ndarray, y: np.ndarray, xq: np.ndarray) -> np.ndarray:
@@ -172,20 +183,36 @@ def pchip(x: np.ndarray, y: np.ndarray, xq: np.ndarray) -> np.ndarray:
 COORDS = {"x": 0, "sin2": 1, "square": 2}
 
 
-@njit(cache=True, nogil=True)
+# sin and asin below come from the branch-free float64 helpers of ._kernels
+# (about 1e-15 and 1e-11 relative), not libm: they vectorise, a libm call
+# per value does not (and cost a quarter of each conversion). numba's cache
+# does not see edits there: clear this module's cache after changing them.
+
+
+@njit(inline="always", error_model="numpy", nogil=True)
+def _sin_quarter(x):
+    """``sin(x)`` for ``0 <= x <= pi/2``: the fdlibm kernels, about pi/2 - x above pi/4."""
+    r = (_PIO2_1 - x) + _PIO2_1T  # pi/2 - x, in two parts
+    return sin_small(x, x * x) if x <= 0.25 * np.pi else cos_small(r * r)
+
+
+@njit(inline="always", error_model="numpy", nogil=True)
 def _u_of_x(x, coord):
+    """``u(x)`` for ``x`` in the domain (``[0, pi/2]`` for "sin2")."""
     if coord == 1:
-        s = np.sin(x)
+        s = _sin_quarter(x)
         return s * s
     if coord == 2:
         return x * x
     return x
 
 
-@njit(cache=True, nogil=True)
+@njit(inline="always", error_model="numpy", nogil=True)
 def _x_of_u(u, coord, lo, hi):
+    """The inverse of :func:`_u_of_x`, clamped to ``[lo, hi]`` (asin(sqrt(u)) for "sin2")."""
     if coord == 1:
-        x = np.arcsin(np.sqrt(min(max(u, 0.0), 1.0)))
+        c = min(max(u, 0.0), 1.0)
+        x = atan2_upper(np.sqrt(c), np.sqrt(1.0 - c))
     elif coord == 2:
         x = np.sqrt(max(u, 0.0))
     else:
@@ -193,7 +220,7 @@ def _x_of_u(u, coord, lo, hi):
     return min(max(x, lo), hi)
 
 
-@njit(cache=True, parallel=True, nogil=True)
+@njit(cache=True, parallel=True, nogil=True, error_model="numpy")
 def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
     rows, nb = pdf.shape
     nk = nb + 1
@@ -206,7 +233,9 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
     for block in prange(n_blocks):
         cdf = np.empty(nk)
         dk = np.empty(nk)
+        secant = np.empty(nk)
         uq = np.empty(y.shape[0])
+        index = np.empty(y.shape[0], dtype=np.int64)
         for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
             acc = 0.0
             cdf[0] = 0.0
@@ -232,13 +261,13 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
             cdf[nk - 1] = 1.0
             for k in range(nk):
                 cdf[k] = (1.0 - _KNOT_EPS) * cdf[k] + _KNOT_EPS * k / (nk - 1)
-            _pchip_slopes(cdf, ue, nk, dk)
-            _pchip_eval_sorted(cdf, ue, dk, nk, y, uq)
+            _pchip_slopes(cdf, ue, nk, dk, secant)
+            _pchip_eval_sorted(cdf, ue, dk, nk, y, uq, index)
             for j in range(y.shape[0]):
                 out[p, j] = _x_of_u(uq[j], coord, lo, hi)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _domain_knots(q_row, y, lo, hi, coord, us, ys):
     """Knots ``(u, y)`` of one row's CDF inside ``[lo, hi]``; returns their count.
 
@@ -252,7 +281,7 @@ def _domain_knots(q_row, y, lo, hi, coord, us, ys):
     """
     m = y.shape[0]
     edge_tol = _EDGE_TOL * (hi - lo)
-    us[0] = _u_of_x(lo, coord)
+    us[0] = lo
     ys[0] = 0.0
     prev = lo
     prev_y = 0.0
@@ -269,26 +298,29 @@ def _domain_knots(q_row, y, lo, hi, coord, us, ys):
             t = (hi - prev) / (v - prev) if v < np.inf else 0.0
             y_cut = prev_y + t * (y[j] - prev_y)
             break
-        us[n] = _u_of_x(v, coord)
+        us[n] = v  # u(v) below, in a loop that vectorises
         ys[n] = y[j]
         n += 1
         prev = v
         prev_y = y[j]
-    us[n] = _u_of_x(hi, coord)
+    us[n] = hi
     ys[n] = y_cut
     n += 1
+    for k in range(n):
+        us[k] = _u_of_x(us[k], coord)
     if not (y_cut > _MIN_KEPT):
         # (almost) everything left the domain: what remains has no shape to keep,
         # read it as the density constant over the measure
         us[1] = us[n - 1]
         ys[1] = 1.0
         return 2
-    for k in range(n):
-        ys[k] /= y_cut
+    if y_cut != 1.0:  # the common case divides by one: skip it
+        for k in range(n):
+            ys[k] /= y_cut
     return n
 
 
-@njit(cache=True, parallel=True, nogil=True)
+@njit(cache=True, parallel=True, nogil=True, error_model="numpy")
 def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
     rows, m = q.shape
     nb = weights.shape[0]
@@ -303,14 +335,16 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
         us = np.empty(m + 2)
         ys = np.empty(m + 2)
         dk = np.empty(m + 2)
+        secant = np.empty(m + 2)
         cdf = np.empty(nb + 1)
+        index = np.empty(nb + 1, dtype=np.int64)
         for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
             nk = _domain_knots(q[p], y, lo, hi, coord, us, ys)
             for k in range(nk):
                 ramp = u_lo + u_span * k / (nk - 1)
                 us[k] = (1.0 - _KNOT_EPS) * us[k] + _KNOT_EPS * ramp
-            _pchip_slopes(us, ys, nk, dk)
-            _pchip_eval_sorted(us, ys, dk, nk, ue, cdf)
+            _pchip_slopes(us, ys, nk, dk, secant)
+            _pchip_eval_sorted(us, ys, dk, nk, ue, cdf, index)
             # PCHIP is monotone and hits the anchors; clamp against round-off anyway
             cdf[0] = 0.0
             cdf[nb] = 1.0
