@@ -463,7 +463,7 @@ def test_y_grid_rejects_unknown() -> None:
         y_grid(8, "log")  # type: ignore[arg-type]
 
 
-# --------------------------------------------------------------------------- kernels vs a float64 reference
+# ------------------------------------------------------------- kernels vs a float64 reference
 
 
 def _reference_to_edit(d: np.ndarray, y: np.ndarray) -> np.ndarray:
