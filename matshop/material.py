@@ -21,6 +21,8 @@ import numpy as np
 
 from .errors import InvalidValue, UnknownName
 from .spaces import Space, get_space
+from .spaces._kernels import run_steps
+from .spaces.base import as_channels
 
 #: Called with (rows done, rows total) during long conversions.
 ProgressCallback = Callable[[int, int], None]
@@ -225,12 +227,26 @@ class Material:
         """Convert every parameter into its editing space, concatenated per texel."""
         height, width = self.size
         edit = np.empty((height, width, self.schema.edit_width), dtype=np.float32)
+        slices = self.schema.edit_slices
+        # spaces that are one kernel step convert together, in one pass over the texels
+        fused = [(p, p.space.to_edit_step()) for p in self.schema.parameters]
+        run_steps(
+            [
+                (
+                    step,
+                    as_channels(self.maps[p.name], p.phys_channels, p.name),
+                    edit[..., slices[p.name]],
+                )
+                for p, step in fused
+                if step is not None
+            ]
+        )
+        rest = [p for p, step in fused if step is None]
         bands = _bands(height, width, self.schema.edit_width)
         for done, (r0, r1) in enumerate(bands, 1):
-            for param in self.schema.parameters:
+            for param in rest:
                 param.space.to_edit_into(
-                    self.maps[param.name][r0:r1],
-                    edit[r0:r1, :, self.schema.edit_slices[param.name]],
+                    self.maps[param.name][r0:r1], edit[r0:r1, :, slices[param.name]]
                 )
             if progress:
                 progress(done, len(bands))
@@ -284,12 +300,21 @@ class EditMaterial:
             p.name: np.empty((height, width, p.phys_channels), dtype=np.float32)
             for p in self.schema.parameters
         }
+        slices = self.schema.edit_slices
+        fused = [(p, p.space.from_edit_step()) for p in self.schema.parameters]
+        run_steps(
+            [
+                (step, self.data[..., slices[p.name]], maps[p.name])
+                for p, step in fused
+                if step is not None
+            ]
+        )
+        rest = [p for p, step in fused if step is None]
         bands = _bands(height, width, max(p.phys_channels for p in self.schema.parameters))
         for done, (r0, r1) in enumerate(bands, 1):
-            for param in self.schema.parameters:
+            for param in rest:
                 param.space.from_edit_into(
-                    self.data[r0:r1, :, self.schema.edit_slices[param.name]],
-                    maps[param.name][r0:r1],
+                    self.data[r0:r1, :, slices[param.name]], maps[param.name][r0:r1]
                 )
             if progress:
                 progress(done, len(bands))

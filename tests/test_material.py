@@ -72,3 +72,43 @@ def test_space_overrides_and_unknown_names() -> None:
         Schema.from_names(["roughness"], {"roughness": "nope"})
     with pytest.raises(KeyError, match="unknown parameter"):
         Schema.from_names(["sparkle"])
+
+
+def test_one_pass_conversion_equals_each_space_alone() -> None:
+    """Spaces that are one kernel step convert together (``_kernels.run_steps``); the
+    result must be each space's own conversion, bit for bit, in both directions --
+    with every kind of step, maps that are strided views or float64, and a space
+    without a step (Phong exponents) converted in bands beside them."""
+    rng = np.random.default_rng(3)
+    height, width = 23, 17
+    names = ["base_color", "emissive", "metallic", "roughness", "normal", "tangent", "lobe"]
+    spaces = {
+        "emissive": "gamma22",
+        "roughness": "ggx_alpha",
+        "tangent": "normal_tangent",
+        "lobe": "phong",
+        "metallic": "identity",
+    }
+    schema = Schema([Schema.from_names([n], spaces).parameters[0] for n in names])
+    wide = rng.random((height, width, 6), dtype=np.float32) * 1.2 - 0.1  # outside [0, 1] too
+    frame = rng.normal(size=(height, width, 6)).astype(np.float32)
+    maps = {
+        "base_color": wide[..., ::2],  # a strided view
+        "emissive": wide[..., 3:].astype(np.float64),  # converted on the way in
+        "metallic": wide[..., 1:2],
+        "roughness": rng.random((height, width, 1), dtype=np.float32),
+        "normal": frame[..., :3],
+        "tangent": frame,
+        "lobe": rng.uniform(0.0, 1e4, (height, width, 1)).astype(np.float32),
+    }
+    mat = Material("steps", schema, maps)
+    edit = mat.to_edit()
+    for param in schema.parameters:
+        assert param.space.to_edit_step() is not None or param.name == "lobe"
+        want = param.space.to_edit(maps[param.name])
+        assert np.array_equal(edit[param.name], want, equal_nan=True), param.name
+    edited = edit.data * np.float32(1.3)  # push values past the clamps on the way back
+    back = material_module.EditMaterial("e", schema, edited).to_physical()
+    for param in schema.parameters:
+        want = param.space.from_edit(edited[..., schema.edit_slices[param.name]])
+        assert np.array_equal(back.maps[param.name], want, equal_nan=True), param.name

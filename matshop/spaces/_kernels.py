@@ -38,6 +38,7 @@ call and blocks vectorisation of its loop):
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
@@ -953,6 +954,109 @@ def _call_frames(code, c_in, c_out, src, src_stride, dst, dst_stride, n):
         _normal_kernel(src, src_stride, dst, dst_stride, n, code, chunks(n))
     else:
         _frame_kernel(src, src_stride, dst, dst_stride, n, code, c_in, c_out, chunks(n))
+
+
+# ---------------------------------------------------------------------------
+# several conversions in one pass (a whole material)
+
+
+@dataclass(frozen=True)
+class Step:
+    """One conversion a fused kernel runs: a :func:`transfer` curve or a :func:`frames` code."""
+
+    #: False: ``transfer(src, dst, code, lo, hi, p)``; True: ``frames(src, dst, code)``
+    frame: bool
+    code: int
+    lo: float = -_INF
+    hi: float = _INF
+    p: float = 1.0
+
+    def run(self, src: np.ndarray, dst: np.ndarray) -> np.ndarray:
+        """This conversion alone, ``src`` into ``dst`` (its own parallel pass)."""
+        if self.frame:
+            return frames(src, dst, self.code)
+        return transfer(src, dst, self.code, self.lo, self.hi, self.p)
+
+    def channels(self, c_in: int) -> tuple[int, int]:
+        """Channels read and written for ``c_in`` input channels."""
+        return FRAME_CHANNELS[self.code] if self.frame else (c_in, c_in)
+
+
+#: conversions per pass of :func:`run_steps` (a fixed tuple length: one compilation)
+_MAX_STEPS = 8
+
+
+@njit(**_WORKER)
+def _steps_chunk(srcs, src_strides, dsts, dst_strides, table, coeffs, count_steps, start, stop):
+    buf = np.empty((_MAX_STRIDED_CHANNELS, BLOCK), dtype=np.float64)
+    for first in range(_U(start), _U(stop), _U(BLOCK)):
+        count = min(_U(BLOCK), _U(stop) - first)
+        for s in range(count_steps):
+            frame, code, c_in, c_out = table[s, 0], table[s, 1], _U(table[s, 2]), _U(table[s, 3])
+            _load(srcs[s], _U(src_strides[s]), c_in, first, count, buf)
+            if frame == 0:
+                _apply_curve(buf, c_in, count, code, coeffs[s, 0], coeffs[s, 1], coeffs[s, 2])
+            elif code == NORMAL_TO_EDIT or code == NORMAL_FROM_EDIT:
+                _apply_normal(buf, count, code)
+            else:
+                _apply_frame(buf, count, code)
+            _store(buf, c_out, first, count, dsts[s], _U(dst_strides[s]))
+
+
+@njit(**_KERNEL)
+def _steps_kernel(srcs, src_strides, dsts, dst_strides, table, coeffs, count_steps, n, nchunks):
+    for chunk in prange(nchunks):
+        start = chunk * n // nchunks
+        stop = (chunk + 1) * n // nchunks
+        _steps_chunk(srcs, src_strides, dsts, dst_strides, table, coeffs, count_steps, start, stop)
+
+
+def run_steps(jobs: list[tuple[Step, np.ndarray, np.ndarray]]) -> None:
+    """Run every ``(step, src, dst)`` in one parallel pass over their texels.
+
+    All ``src`` (..., C_in) and ``dst`` (..., C_out) float32 arrays share their
+    leading shape; ``dst`` is written in place and may be a strided view (some
+    channels of a material's edit array). A block of texels goes through every
+    step while it is in cache: a material's maps are read and its edit array
+    written once, instead of once per parameter, and the page faults of a new
+    output are taken by all threads. Jobs that cannot be addressed as strided
+    rows (more than 8 channels, non-mergeable views) run alone.
+    """
+    fused = []
+    for step, src, dst in jobs:
+        c_in, c_out = step.channels(src.shape[-1])
+        src_rows, dst_rows = _as_rows(src), _as_rows(dst)
+        flat_src = _flat_rows(src_rows, False) if src.dtype == np.float32 else None
+        direct = dst.dtype == np.float32 and np.may_share_memory(dst_rows, dst)
+        flat_dst = _flat_rows(dst_rows, True) if direct and dst.flags.writeable else None
+        shapes_ok = src.shape[:-1] == dst.shape[:-1] and (src.shape[-1], dst.shape[-1]) == (
+            c_in,
+            c_out,
+        )
+        small = max(c_in, c_out) <= _MAX_STRIDED_CHANNELS and src_rows.shape[0] > 1
+        if flat_src is None or flat_dst is None or not (shapes_ok and small):
+            step.run(src, dst)
+            continue
+        fused.append((step, c_in, c_out, flat_src, flat_dst))
+    if not fused:
+        return
+    n = _as_rows(jobs[0][1]).shape[0]
+    for first in range(0, len(fused), _MAX_STEPS):
+        group = fused[first : first + _MAX_STEPS]
+        # pad to a fixed length so every material uses the same compiled kernel
+        pad = [group[0]] * (_MAX_STEPS - len(group))
+        table = np.array(
+            [(int(s.frame), s.code, c_in, c_out) for s, c_in, c_out, _, _ in group + pad],
+            dtype=np.int64,
+        )
+        coeffs = np.array([(s.lo, s.hi, s.p) for s, *_ in group + pad], dtype=np.float64)
+        srcs = tuple(f[3][0] for f in group + pad)
+        dsts = tuple(f[4][0] for f in group + pad)
+        src_strides = np.array([f[3][1] for f in group + pad], dtype=np.int64)
+        dst_strides = np.array([f[4][1] for f in group + pad], dtype=np.int64)
+        _steps_kernel(
+            srcs, src_strides, dsts, dst_strides, table, coeffs, len(group), n, chunks(n * 4)
+        )
 
 
 @njit(cache=True, parallel=True, nogil=True)

@@ -16,6 +16,8 @@ from typing import Literal
 
 import numpy as np
 
+from ._kernels import Step
+
 #: How curves and range-normalisation treat the edit channels:
 #: ``"channels"`` per channel (colors, scalars), ``"vector"`` by magnitude
 #: (frame rotations, inverse CDFs).
@@ -67,6 +69,18 @@ class Space(ABC):
         Out-of-range edit values are clamped here, never earlier.
         """
 
+    def to_edit_step(self) -> Step | None:
+        """``to_edit`` as one fused kernel step (:class:`._kernels.Step`), or None.
+
+        Spaces with a step are converted together, in one pass over a
+        material (:func:`._kernels.run_steps`).
+        """
+        return None
+
+    def from_edit_step(self) -> Step | None:
+        """``from_edit`` as one fused kernel step, or None (see :meth:`to_edit_step`)."""
+        return None
+
     def to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
         """``to_edit(phys)`` written into ``out`` (..., edit_channels) float32; returns ``out``.
 
@@ -95,11 +109,11 @@ class Space(ABC):
 
 
 class FusedSpace(Space):
-    """A space whose conversions write straight into an output array (a fused kernel).
+    """A space whose conversions are one kernel step each, written straight into an output.
 
-    Subclasses implement :meth:`_to_edit_into` and :meth:`_from_edit_into`,
-    which receive float32 input with the right channel count and a checked
-    ``out``; ``to_edit`` / ``from_edit`` allocate that ``out``.
+    Subclasses implement :meth:`to_edit_step` and :meth:`from_edit_step`;
+    ``to_edit`` / ``from_edit`` allocate the output, the ``*_into`` forms
+    check a given one.
     """
 
     def to_edit(self, phys: np.ndarray) -> np.ndarray:
@@ -123,12 +137,18 @@ class FusedSpace(Space):
         return self._from_edit_into(edit, out)
 
     @abstractmethod
-    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
-        """Float32 ``phys`` (..., phys_channels) -> ``out`` (checked); return ``out``."""
+    def to_edit_step(self) -> Step: ...
 
     @abstractmethod
+    def from_edit_step(self) -> Step: ...
+
+    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """Float32 ``phys`` (..., phys_channels) -> ``out`` (checked); return ``out``."""
+        return self.to_edit_step().run(phys, out)
+
     def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
         """Float32 ``edit`` (..., edit_channels) -> ``out`` (checked); return ``out``."""
+        return self.from_edit_step().run(edit, out)
 
 
 def as_channels(array: np.ndarray, channels: int, what: str) -> np.ndarray:

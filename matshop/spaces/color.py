@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import POWER, SRGB_DECODE, SRGB_ENCODE, transfer
+from ._kernels import POWER, SRGB_DECODE, SRGB_ENCODE, Step, transfer
 from .base import EditRange, FusedSpace, Space
 
 _GAMMA = 2.2
@@ -55,11 +55,11 @@ class SRGBColorSpace(FusedSpace):
         self.phys_channels = channels
         self.edit_channels = channels
 
-    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return transfer(phys, out, SRGB_DECODE)
+    def to_edit_step(self) -> Step:
+        return Step(False, SRGB_DECODE)
 
-    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return transfer(edit, out, SRGB_ENCODE, lo=0.0, hi=1.0)
+    def from_edit_step(self) -> Step:
+        return Step(False, SRGB_ENCODE, lo=0.0, hi=1.0)
 
 
 class Gamma22ColorSpace(FusedSpace):
@@ -74,11 +74,11 @@ class Gamma22ColorSpace(FusedSpace):
         self.phys_channels = channels
         self.edit_channels = channels
 
-    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return transfer(phys, out, POWER, lo=0.0, p=_GAMMA)
+    def to_edit_step(self) -> Step:
+        return Step(False, POWER, lo=0.0, p=_GAMMA)
 
-    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return transfer(edit, out, POWER, lo=0.0, hi=1.0, p=1.0 / _GAMMA)
+    def from_edit_step(self) -> Step:
+        return Step(False, POWER, lo=0.0, hi=1.0, p=1.0 / _GAMMA)
 
 
 SPACES: dict[str, Space] = {"srgb": SRGBColorSpace(), "gamma22": Gamma22ColorSpace()}

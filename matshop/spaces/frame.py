@@ -43,7 +43,7 @@ from ._kernels import (
     FRAME_TO_EDIT,
     NORMAL_FROM_EDIT,
     NORMAL_TO_EDIT,
-    frames,
+    Step,
     normalize_or_z,
 )
 from .base import EditRange, FusedSpace, Space, as_channels
@@ -243,11 +243,11 @@ class NormalFrameSpace(FusedSpace):
     edit_range = EditRange(0.0, float(np.pi / 2))
     curve_mode = "vector"
 
-    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return frames(phys, out, NORMAL_TO_EDIT)
+    def to_edit_step(self) -> Step:
+        return Step(True, NORMAL_TO_EDIT)
 
-    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return frames(edit, out, NORMAL_FROM_EDIT)
+    def from_edit_step(self) -> Step:
+        return Step(True, NORMAL_FROM_EDIT)
 
 
 class NormalTangentFrameSpace(FusedSpace):
@@ -270,11 +270,11 @@ class NormalTangentFrameSpace(FusedSpace):
     edit_range = EditRange(0.0, float(np.pi / 2))
     curve_mode = "vector"
 
-    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return frames(phys, out, FRAME_TO_EDIT)
+    def to_edit_step(self) -> Step:
+        return Step(True, FRAME_TO_EDIT)
 
-    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return frames(edit, out, FRAME_FROM_EDIT)
+    def from_edit_step(self) -> Step:
+        return Step(True, FRAME_FROM_EDIT)
 
     def _reference_to_edit(self, phys: np.ndarray) -> np.ndarray:
         """The numpy (float32) formulation of ``to_edit``, kept as a test reference."""

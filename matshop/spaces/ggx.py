@@ -35,46 +35,59 @@ import math
 
 import numpy as np
 
-from ._kernels import ATAN_SQUARE, SQRT, SQRT_TAN, SQUARE, transfer
+from ._kernels import ATAN_SQUARE, SQRT, SQRT_TAN, SQUARE, Step
 from .base import EditRange, FusedSpace, Space
 
 _QUARTER_PI = 0.25 * math.pi
 
 
-def _map(values: np.ndarray, out: np.ndarray | None, curve: int, lo: float, hi: float):
-    """Clamp to ``[lo, hi]`` and apply ``curve``: one fused pass into ``out`` or a new array."""
+# the kernel steps of the two coordinates (clamp, then the curve)
+_ALPHA_TO = Step(False, SQUARE, 0.0, 1.0)
+_ALPHA_FROM = Step(False, SQRT, 0.0, 1.0)
+_MEDIAN_TO = Step(False, ATAN_SQUARE, 0.0, 1.0)
+_MEDIAN_FROM = Step(False, SQRT_TAN, 0.0, _QUARTER_PI)
+
+
+def _map(values: np.ndarray, out: np.ndarray | None, step: Step) -> np.ndarray:
+    """One fused pass of ``step`` into ``out`` or a new array."""
     v = np.asarray(values, dtype=np.float32)
     if out is None:
         out = np.empty(v.shape, dtype=np.float32)
-    return transfer(v, out, curve, lo=lo, hi=hi)
+    return step.run(v, out)
 
 
 def alpha_to_edit(r: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
     """``alpha = r^2`` with ``r`` clamped to ``[0, 1]``."""
-    return _map(r, out, SQUARE, 0.0, 1.0)
+    return _map(r, out, _ALPHA_TO)
 
 
 def alpha_from_edit(e: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
     """``r = sqrt(clamp(alpha, 0, 1))``."""
-    return _map(e, out, SQRT, 0.0, 1.0)
+    return _map(e, out, _ALPHA_FROM)
 
 
 def median_to_edit(r: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
     """Median lobe angle ``atan(r^2)`` in radians, in ``[0, pi/4]`` (``r`` clamped to [0, 1])."""
-    return _map(r, out, ATAN_SQUARE, 0.0, 1.0)
+    return _map(r, out, _MEDIAN_TO)
 
 
 def median_from_edit(e: np.ndarray, *, out: np.ndarray | None = None) -> np.ndarray:
     """``r = sqrt(clamp(tan e, 0, 1))`` with ``e`` clamped to ``[0, pi/4]`` first."""
-    return _map(e, out, SQRT_TAN, 0.0, _QUARTER_PI)
+    return _map(e, out, _MEDIAN_FROM)
 
 
+#: per coordinate: description, the two kernel steps (what the functions above run), range
 _COORDINATES = {
-    "alpha": ("alpha = r^2 (MATH.md)", alpha_to_edit, alpha_from_edit, (0.0, 1.0)),
+    "alpha": (
+        "alpha = r^2 (MATH.md)",
+        _ALPHA_TO,
+        _ALPHA_FROM,
+        (0.0, 1.0),
+    ),
     "median": (
         "median lobe angle atan(r^2) in radians",
-        median_to_edit,
-        median_from_edit,
+        _MEDIAN_TO,
+        _MEDIAN_FROM,
         (0.0, 0.25 * np.pi),
     ),
 }
@@ -92,17 +105,17 @@ class GGXSpace(FusedSpace):
     curve_mode = "channels"
 
     def __init__(self, coordinate: str, *, name: str | None = None) -> None:
-        description, self._to_edit, self._from_edit, (lo, hi) = _COORDINATES[coordinate]
+        description, self._to_step, self._from_step, (lo, hi) = _COORDINATES[coordinate]
         self.coordinate = coordinate
         self.name = name or f"ggx_{coordinate}"
         self.description = f"GGX perceptual roughness r (alpha = r^2): {description}"
         self.edit_range = EditRange(lo, hi)
 
-    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return self._to_edit(phys, out=out)
+    def to_edit_step(self) -> Step:
+        return self._to_step
 
-    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return self._from_edit(edit, out=out)
+    def from_edit_step(self) -> Step:
+        return self._from_step
 
 
 SPACES: dict[str, Space] = {

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import IDENTITY, transfer
+from ._kernels import IDENTITY, Step
 from .base import EditRange, FusedSpace, Space, as_channels
 
 
@@ -35,11 +35,11 @@ class IdentitySpace(FusedSpace):
         # a plain copy is a memcpy; as_channels has already copied when it converted
         return checked.copy() if np.may_share_memory(checked, phys) else checked
 
-    def _to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return transfer(phys, out, IDENTITY)
+    def to_edit_step(self) -> Step:
+        return Step(False, IDENTITY)
 
-    def _from_edit_into(self, edit: np.ndarray, out: np.ndarray) -> np.ndarray:
-        return transfer(edit, out, IDENTITY, lo=self.lo, hi=self.hi)
+    def from_edit_step(self) -> Step:
+        return Step(False, IDENTITY, lo=self.lo, hi=self.hi)
 
 
 SPACES: dict[str, Space] = {
