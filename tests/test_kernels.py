@@ -18,7 +18,7 @@ from numba import njit
 
 from matshop.material import Material, Schema
 from matshop.spaces import _kernels as K
-from matshop.spaces import get_space
+from matshop.spaces import get_space, phong
 from matshop.spaces.color import linear_to_srgb, srgb_to_linear
 from matshop.spaces.frame import (
     NormalFrameSpace,
@@ -118,6 +118,8 @@ def _clip(v: np.ndarray, lo: float, hi: float) -> np.ndarray:
     return np.clip(v.astype(np.float64), lo, hi)
 
 
+_PHONG_E = (float(phong._MEDIAN_E_MIN), float(phong._MEDIAN_E_MAX))
+
 CURVES = {
     "srgb_decode": (K.SRGB_DECODE, {}, _srgb_decode_ref),
     "srgb_encode": (K.SRGB_ENCODE, {}, _srgb_encode_ref),
@@ -137,6 +139,19 @@ CURVES = {
     "square": (K.SQUARE, {"lo": 0, "hi": 1}, lambda v: _clip(v, 0, 1) ** 2),
     "sqrt": (K.SQRT, {"lo": 0, "hi": 1}, lambda v: np.sqrt(_clip(v, 0, 1))),
     "identity": (K.IDENTITY, {}, lambda v: v.astype(np.float64)),
+    # Phong's median angle (phong.py's closed forms in float64, expm1 / log1p for tiny angles)
+    "phong_median": (
+        K.PHONG_MEDIAN_TO_EDIT,
+        {"lo": 0},
+        lambda v: 2 * np.arcsin(np.sqrt(-0.5 * np.expm1(-np.log(2) / (_clip(v, 0, np.inf) + 2)))),
+    ),
+    "phong_median_inverse": (
+        K.PHONG_MEDIAN_FROM_EDIT,
+        {"lo": _PHONG_E[0], "hi": _PHONG_E[1], "p": phong.N_MAX},
+        lambda v: np.clip(
+            -np.log(2) / np.log1p(-2 * np.sin(_clip(v, *_PHONG_E) / 2) ** 2) - 2, 0, phong.N_MAX
+        ),
+    ),
     "clamp": (K.IDENTITY, {"lo": -0.5, "hi": 2.0}, lambda v: _clip(v, -0.5, 2.0)),
 }
 

@@ -109,6 +109,7 @@ _SQRT2 = math.sqrt(2.0)
 _LN2_HI = 6.93147180369123816490e-01  # fdlibm: ln 2 = _LN2_HI + _LN2_LO, k * _LN2_HI exact
 _LN2_LO = 1.90821492927058770002e-10
 _INV_LN2 = 1.44269504088896338700e00
+_LN2 = math.log(2.0)
 _MANTISSA = np.int64(0x000FFFFFFFFFFFFF)
 _EXP_ONE = np.int64(0x3FF0000000000000)
 # adding 1.5 * 2^52 rounds a double (|x| < 2^51) to an integer, which then
@@ -335,6 +336,8 @@ ATAN_SQUARE = 4  # atan(x^2) (GGX median angle; clamp to [0, 1] first)
 SQRT_TAN = 5  # sqrt(clamp(tan x, 0, 1)) (clamp to [0, pi/4] first)
 SQUARE = 6  # x^2
 SQRT = 7  # sqrt(x) (clamp with lo >= 0 first)
+PHONG_MEDIAN_TO_EDIT = 8  # exponent n -> median angle acos(2^(-1/(n+2))) (lo >= 0)
+PHONG_MEDIAN_FROM_EDIT = 9  # median angle -> -ln 2 / ln cos e - 2, clamped to [0, p]
 
 _SRGB_DECODE_KNEE = 0.04045
 _SRGB_ENCODE_KNEE = 0.0031308
@@ -534,6 +537,102 @@ def _curve_simple(row, count, curve, lo, hi):
             row[k] = _clamp(row[k], lo, hi)
 
 
+@njit(**_INLINE)
+def _expm1_small(t):
+    """``exp(t) - 1`` for ``|t| <= 0.35``: Taylor to t^13, relative error about 1e-16."""
+    p = 1.0 / 6227020800.0
+    p = p * t + 1.0 / 479001600.0
+    p = p * t + 1.0 / 39916800.0
+    p = p * t + 1.0 / 3628800.0
+    p = p * t + 1.0 / 362880.0
+    p = p * t + 1.0 / 40320.0
+    p = p * t + 1.0 / 5040.0
+    p = p * t + 1.0 / 720.0
+    p = p * t + 1.0 / 120.0
+    p = p * t + 1.0 / 24.0
+    p = p * t + 1.0 / 6.0
+    p = p * t + 0.5
+    p = p * t + 1.0
+    return t * p
+
+
+@njit(**_INLINE)
+def _log1p_small(y):
+    """``ln(1 + y)`` for ``-0.3 <= y <= 0.3``: 2 atanh(f), f = y / (2 + y), relative error ~1e-16.
+
+    Relative to ``y`` (unlike ``log_pos(1 + y)``), so tiny ``y`` keep their digits;
+    the series runs to f^21 (|f| <= 0.18), so that ``-ln 2 / ln cos e - 2`` near
+    ``e = pi/4`` (n near 0, a difference of nearly equal numbers) stays exact too.
+    """
+    f = y / (2.0 + y)
+    s = f * f
+    series = 1.0 / 21
+    series = series * s + 1.0 / 19
+    series = series * s + 1.0 / 17
+    series = series * s + 1.0 / 15
+    series = series * s + 1.0 / 13
+    series = series * s + 1.0 / 11
+    series = series * s + 1.0 / 9
+    series = series * s + 1.0 / 7
+    series = series * s + 1.0 / 5
+    series = series * s + 1.0 / 3
+    return 2.0 * f + 2.0 * f * (s * series)
+
+
+@njit(**_INLINE)
+def _asin_small(s):
+    """``asin(s)`` for ``0 <= s <= 0.39``: its Taylor series to s^35 (relative error ~1e-17).
+
+    No division or square root (what an ``atan2`` form costs), so it is cheap
+    where it applies: the Phong median angle, ``s = sin(e / 2) <= sin(pi/8)``.
+    """
+    z = s * s
+    p = 0.003880964558837669
+    p = p * z + 0.004240907093679363
+    p = p * z + 0.004660143486915096
+    p = p * z + 0.005153309682319905
+    p = p * z + 0.005740037670841924
+    p = p * z + 0.006447210311889649
+    p = p * z + 0.0073125258735988454
+    p = p * z + 0.008390335809616815
+    p = p * z + 0.009761609529194078
+    p = p * z + 0.011551800896139705
+    p = p * z + 0.01396484375
+    p = p * z + 0.017352764423076924
+    p = p * z + 0.022372159090909092
+    p = p * z + 0.030381944444444444
+    p = p * z + 0.044642857142857144
+    p = p * z + 0.075
+    p = p * z + 0.16666666666666666
+    p = p * z + 1.0
+    return s * p
+
+
+@njit(**_WORKER)
+def _curve_phong_median_to_edit(row, count, lo, hi, p):
+    """``2 asin(sqrt((1 - 2^(-1/(n+2))) / 2))``, the median angle of ``cos^n``.
+
+    ``1 - cos e = -expm1(-ln 2 / (n + 2))`` keeps full precision for huge ``n``
+    (tiny angles); ``n = inf`` gives 0, NaN stays NaN.
+    """
+    for k in range(count):
+        n = _clamp(row[k], lo, hi)
+        s = math.sqrt(-0.5 * _expm1_small(-_LN2 / (n + 2.0)))  # sin(e/2) <= sin(pi/8)
+        e = 2.0 * _asin_small(s)
+        row[k] = e if n == n else n
+
+
+@njit(**_WORKER)
+def _curve_phong_median_from_edit(row, count, lo, hi, p):
+    """``-ln 2 / ln(cos e) - 2`` for ``e`` clamped to ``[lo, hi]`` (within (0, pi/4]),
+    clamped to ``[0, p]``; ``ln cos e = log1p(-2 sin^2(e/2))`` for small angles."""
+    for k in range(count):
+        half = 0.5 * _clamp(row[k], lo, hi)
+        sin_half = sin_small(half, half * half)
+        n = -_LN2 / _log1p_small(-2.0 * sin_half * sin_half) - 2.0
+        row[k] = _clamp(n, 0.0, p)
+
+
 @njit(**_WORKER)
 def _apply_curve(buf, channels, count, curve, lo, hi, p):
     """Clamp and map ``buf[:channels, :count]`` in place."""
@@ -549,6 +648,10 @@ def _apply_curve(buf, channels, count, curve, lo, hi, p):
             _curve_atan_square(row, count, lo, hi, p)
         elif curve == SQRT_TAN:
             _curve_sqrt_tan(row, count, lo, hi, p)
+        elif curve == PHONG_MEDIAN_TO_EDIT:
+            _curve_phong_median_to_edit(row, count, lo, hi, p)
+        elif curve == PHONG_MEDIAN_FROM_EDIT:
+            _curve_phong_median_from_edit(row, count, lo, hi, p)
         else:
             _curve_simple(row, count, curve, lo, hi)
 

@@ -55,6 +55,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._kernels import PHONG_MEDIAN_FROM_EDIT, PHONG_MEDIAN_TO_EDIT, Step
 from .base import EditRange, Space, as_channels
 
 #: largest physical exponent produced by ``from_edit`` (see module docstring)
@@ -120,26 +121,33 @@ def median_to_edit(n: np.ndarray) -> np.ndarray:
 
     Evaluated as ``2 asin(sqrt((1 - cos e) / 2))`` with ``1 - cos e =
     -expm1(-ln 2 / (n + 2))`` so that large exponents (tiny angles) keep full
-    float32 precision.
+    precision: one fused kernel pass in float64 (``_kernels``), correctly
+    rounded to float32 within half an ulp (tests/test_analytic_spaces.py).
     """
-    one_minus_cos = -np.expm1(-_LN2 / (_exponent(n) + _F32(2.0)))
-    return (_F32(2.0) * np.arcsin(np.sqrt(_F32(0.5) * one_minus_cos))).astype(_F32, copy=False)
+    return _MEDIAN_TO.run(*_in_out(n))
 
 
 def median_from_edit(e: np.ndarray) -> np.ndarray:
     """``-ln 2 / ln(cos e) - 2`` with ``e`` clamped to ``[median(N_MAX), pi/4]``.
 
-    ``ln(cos e)`` is evaluated as ``log1p(-2 sin^2(e/2))`` for precision at
-    small angles.
+    ``ln(cos e)`` is evaluated as ``log1p(-2 sin^2(e/2))`` in float64 (one fused
+    kernel pass): float32 arithmetic lost up to 3e-4 relative near ``N_MAX``.
     """
-    e = np.clip(np.asarray(e, dtype=_F32), _MEDIAN_E_MIN, _MEDIAN_E_MAX)
-    half_sin = np.sin(_F32(0.5) * e)
-    ln_cos = np.log1p(_F32(-2.0) * half_sin * half_sin)
-    return _finish_exponent(-_LN2 / ln_cos - _F32(2.0))
+    return _MEDIAN_FROM.run(*_in_out(e))
 
 
-_MEDIAN_E_MIN = median_to_edit(np.float32(N_MAX))
+def _in_out(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    v = np.asarray(values, dtype=_F32)
+    return v, np.empty(v.shape, dtype=_F32)
+
+
+# the same formula in numpy float64 (no kernel call at import time)
+_MEDIAN_E_MIN = _F32(2.0 * np.arcsin(np.sqrt(-0.5 * np.expm1(-np.log(2.0) / (N_MAX + 2.0)))))
 _MEDIAN_E_MAX = _F32(0.25 * np.pi)
+_MEDIAN_TO = Step(False, PHONG_MEDIAN_TO_EDIT, lo=0.0)
+_MEDIAN_FROM = Step(
+    False, PHONG_MEDIAN_FROM_EDIT, float(_MEDIAN_E_MIN), float(_MEDIAN_E_MAX), N_MAX
+)
 
 
 # --- the space -------------------------------------------------------------------------
@@ -197,6 +205,13 @@ class PhongSpace(Space):
 
     def _what(self) -> str:
         return "Phong exponent n"
+
+    def to_edit_step(self) -> Step | None:
+        # the median coordinate (the default) is a fused kernel step; the others numpy
+        return _MEDIAN_TO if self.coordinate == "median" else None
+
+    def from_edit_step(self) -> Step | None:
+        return _MEDIAN_FROM if self.coordinate == "median" else None
 
     def to_edit(self, phys: np.ndarray) -> np.ndarray:
         return self._maps.to_edit(as_channels(phys, self.phys_channels, self.name))
