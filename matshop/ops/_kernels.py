@@ -70,7 +70,7 @@ def line_tables(
     return ab.astype(np.float32), to_pos, offset + 1.0
 
 
-@njit(cache=True, parallel=True, fastmath=True, nogil=True)
+@njit(cache=True, parallel=True, fastmath=True, nogil=True, error_model="numpy")
 def lut_apply(src, ab, to_pos, shift, vectors, bounds, quadrature, vab, vpos, out):
     """A curve through every channel group of ``src`` in one pass.
 
@@ -95,14 +95,20 @@ def lut_apply(src, ab, to_pos, shift, vectors, bounds, quadrature, vab, vpos, ou
     shift32 = shift.astype(np.float32)
     q32 = quadrature.astype(np.float32)
     zero = np.float32(0.0)
+    # clamped as a float (huge values) and as an unsigned index (NaN converts to anything)
+    ftop, utop = np.float32(top), np.uint32(top)
+    vftop, vutop = np.float32(vtop), np.uint32(vtop)
+    # the vector groups' channels are written by their own loop: skip them here
+    scalar = np.ones(channels, dtype=np.bool_)
+    for i in range(vectors.shape[0]):
+        scalar[vectors[i]] = False
     for row in prange(height):
         for col in range(width):
             for c in range(channels):
-                x = src[row, col, c]
-                # clamped before the conversion (huge values) and after it (NaN)
-                pos = min(max(x * scale32[c] + shift32[c], zero), np.float32(top))
-                j = min(max(np.int32(pos), 0), top)
-                out[row, col, c] = ab[c, j, 0] + x * ab[c, j, 1]
+                if scalar[c]:
+                    x = src[row, col, c]
+                    j = min(np.uint32(min(max(x * scale32[c] + shift32[c], zero), ftop)), utop)
+                    out[row, col, c] = ab[c, j, 0] + x * ab[c, j, 1]
         for g in range(bounds.shape[0] - 1):
             first, stop = bounds[g], bounds[g + 1]
             vscale, vshift = np.float32(vpos[g, 0]), np.float32(vpos[g, 1])
@@ -122,8 +128,7 @@ def lut_apply(src, ab, to_pos, shift, vectors, bounds, quadrature, vab, vpos, ou
                     m = np.sqrt(sq)
                 gain = zero
                 if m > zero:
-                    pos = min(max(m * vscale + vshift, zero), np.float32(vtop))
-                    j = min(max(np.int32(pos), 0), vtop)
+                    j = min(np.uint32(min(max(m * vscale + vshift, zero), vftop)), vutop)
                     gain = max(vab[g, j, 0] + m * vab[g, j, 1], zero) / m
                 if frame:
                     out[row, col, c0] = v0 * gain
