@@ -1,16 +1,20 @@
-"""The one-pass curves kernel against the straightforward numpy formulation.
+"""The curves kernels against the straightforward numpy formulation.
 
-The reference below is the path the kernel replaced, written plainly in
-float64: ``np.interp`` in the table, straight lines beyond it, and for vector
-groups the magnitude through the curve. The ranges are the ops' own
-(:func:`curve_ranges`); they are checked separately against ``np.percentile``
-of the same texels.
+The reference below is written plainly in float64: the curve itself (scipy's
+PCHIP through the points with :func:`curve_lut`'s straight ends, or levels'
+closed form), straight lines beyond [0, 1], and for vector groups the magnitude
+through the curve. Curves of a few points and levels run as polynomial pieces
+(``_pieces.py``) and must match that exactly (to float32 rounding); curves of
+many points interpolate the table, within the table's own error. The ranges
+are the ops' own (:func:`curve_ranges`); they are checked separately against
+``np.percentile`` of the same texels.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.interpolate import PchipInterpolator
 
 from matshop.material import Schema
 from matshop.ops.curves import curve_lut, curve_ranges, curves, levels, levels_lut
@@ -29,20 +33,48 @@ def edit_array(height: int = 41, width: int = 53) -> np.ndarray:
     return edit
 
 
-def curve_at(lut: np.ndarray, t: np.ndarray, tail: float) -> np.ndarray:
-    """The table at ``t`` (float64), continued beyond [0, 1] as the kernel documents."""
-    grid = np.linspace(0.0, 1.0, lut.size)
-    out = np.interp(t, grid, lut)
-    step = grid[1]
-    low = (lut[1] - lut[0]) / step if tail < 0 else tail
-    high = (lut[-1] - lut[-2]) / step if tail < 0 else tail
+def exact_curve(points):
+    """``f(t)`` on [0, 1] of a curve's control points: PCHIP, straight lines past the ends."""
+    xs, ys = np.array(points, dtype=np.float64).T
+
+    def f(t: np.ndarray) -> np.ndarray:
+        if len(xs) == 2:
+            return ys[0] + (t - xs[0]) * (ys[1] - ys[0]) / (xs[1] - xs[0])
+        left = ys[0] + (t - xs[0]) * (ys[1] - ys[0]) / (xs[1] - xs[0])
+        right = ys[-1] + (t - xs[-1]) * (ys[-1] - ys[-2]) / (xs[-1] - xs[-2])
+        inside = PchipInterpolator(xs, ys)(np.clip(t, xs[0], xs[-1]))
+        return np.where(t < xs[0], left, np.where(t > xs[-1], right, inside))
+
+    return f
+
+
+def exact_levels(in_black, in_white, gamma, out_black, out_white):
+    def f(t: np.ndarray) -> np.ndarray:
+        v = np.clip((t - in_black) / (in_white - in_black), 0.0, 1.0)
+        return out_black + (out_white - out_black) * v ** (1.0 / gamma)
+
+    return f
+
+
+def table_curve(lut):
+    """``f(t)`` as the table interpolates it (curves of many points)."""
+    return lambda t: np.interp(t, np.linspace(0.0, 1.0, lut.size), lut)
+
+
+def curve_at(f, lut: np.ndarray, t: np.ndarray, tail: float) -> np.ndarray:
+    """``f`` on [0, 1], continued beyond by lines: slope ``tail``, or (space remap, tail < 0)
+    the table's end segments, as the ops document."""
+    out = f(np.clip(t, 0.0, 1.0))
+    last = lut.size - 1
+    low = (lut[1] - lut[0]) * last if tail < 0 else tail
+    high = (lut[-1] - lut[-2]) * last if tail < 0 else tail
     below, above = t < 0, t > 1
-    out[below] = lut[0] + t[below] * low
-    out[above] = lut[-1] + (t[above] - 1.0) * high
+    out[below] = f(np.zeros(1))[0] + t[below] * low
+    out[above] = f(np.ones(1))[0] + (t[above] - 1.0) * high
     return out
 
 
-def reference(edit, lut, *, schema, params, remap) -> np.ndarray:
+def reference(edit, f, lut, *, schema, params, remap) -> np.ndarray:
     selection = Selection(edit, schema=schema, params=params, mask=None, op="curves")
     ranges = curve_ranges(edit, schema=schema, params=params, remap=remap)
     tail = tail_slope(remap)
@@ -53,14 +85,14 @@ def reference(edit, lut, *, schema, params, remap) -> np.ndarray:
         if tone.vector:
             magnitude = np.sqrt((values**2 * group.quadrature).sum(-1))
             t = (magnitude - tone.lo[0]) / tone.span[0]
-            mapped = np.maximum(tone.lo[0] + tone.span[0] * curve_at(lut, t, tail), 0.0)
+            mapped = np.maximum(tone.lo[0] + tone.span[0] * curve_at(f, lut, t, tail), 0.0)
             safe = np.where(magnitude > 0, magnitude, 1.0)
             gain = np.where(magnitude > 0, mapped / safe, 0.0)
             out[..., channels] = values * gain[..., None]
         else:
             for i, c in enumerate(channels):
                 t = (values[..., i] - tone.lo[i]) / tone.span[i]
-                out[..., c] = tone.lo[i] + tone.span[i] * curve_at(lut, t, tail)
+                out[..., c] = tone.lo[i] + tone.span[i] * curve_at(f, lut, t, tail)
     return out
 
 
@@ -71,9 +103,10 @@ def reference(edit, lut, *, schema, params, remap) -> np.ndarray:
 def test_curves_equal_the_numpy_formulation(remap, params) -> None:
     edit = edit_array()
     got = curves(edit, points=POINTS, schema=SCHEMA, params=params, remap=remap)
-    expected = reference(edit, curve_lut(POINTS), schema=SCHEMA, params=params, remap=remap)
+    f, lut = exact_curve(POINTS), curve_lut(POINTS)
+    expected = reference(edit, f, lut, schema=SCHEMA, params=params, remap=remap)
     finite = np.abs(expected) < 1e6
-    # float32 lines a + x b: a few float32 ulps of the values and of the curve's reach
+    # float32 arithmetic: a few float32 ulps of the values and of the curve's reach
     np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
     far = edit[5, 6, :3]
     if params is None or "base_color" in params:
@@ -88,11 +121,44 @@ def test_curves_equal_the_numpy_formulation(remap, params) -> None:
 
 def test_levels_without_schema_equal_the_numpy_formulation() -> None:
     edit = edit_array(64, 70)[..., :10]
-    lut = levels_lut(0.1, 0.8, 1.7, 0.05, 0.95)
-    got = levels(edit, in_black=0.1, in_white=0.8, gamma=1.7, out_black=0.05, out_white=0.95)
-    expected = reference(edit, lut, schema=None, params=None, remap="data")
+    args = (0.1, 0.8, 1.7, 0.05, 0.95)  # a gamma: the table path
+    got = levels(edit, **dict(zip(LEVELS_NAMES, args, strict=True)))
+    lut = levels_lut(*args)
+    expected = reference(edit, table_curve(lut), lut, schema=None, params=None, remap="data")
     finite = np.abs(expected) < 1e6
     np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
+
+
+LEVELS_NAMES = ("in_black", "in_white", "gamma", "out_black", "out_white")
+
+
+@pytest.mark.parametrize("remap", ["data", "space"])
+@pytest.mark.parametrize(
+    "args", [(0.1, 0.8, 1.0, 0.05, 0.95), (0.0, 1.0, 1.0, 0.2, 0.7), (0.2, 0.9, 1.0, 0.1, 0.7)]
+)
+def test_levels_without_gamma_equal_the_closed_form(remap, args) -> None:
+    """Levels without a gamma run as straight pieces: the closed form exactly."""
+    edit = edit_array()
+    got = levels(edit, schema=SCHEMA, remap=remap, **dict(zip(LEVELS_NAMES, args, strict=True)))
+    f, lut = exact_levels(*args), levels_lut(*args)
+    expected = reference(edit, f, lut, schema=SCHEMA, params=None, remap=remap)
+    finite = np.abs(expected) < 1e6
+    np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
+
+
+@pytest.mark.parametrize("remap", ["data", "space"])
+def test_a_curve_of_many_points_interpolates_its_table(remap) -> None:
+    """More points than the pieces hold: the table path, within the table's own error."""
+    points = [(0.0, 0.0), (0.1, 0.2), (0.2, 0.25), (0.35, 0.5), (0.5, 0.52), (0.6, 0.7)]
+    points += [(0.75, 0.72), (0.9, 0.95), (1.0, 1.0)]
+    edit = edit_array()
+    got = curves(edit, points=points, schema=SCHEMA, remap=remap)
+    lut = curve_lut(points)
+    expected = reference(edit, table_curve(lut), lut, schema=SCHEMA, params=None, remap=remap)
+    finite = np.abs(expected) < 1e6
+    np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
+    exact = reference(edit, exact_curve(points), lut, schema=SCHEMA, params=None, remap=remap)
+    np.testing.assert_allclose(got[finite], exact[finite], rtol=1e-4, atol=1e-4)
 
 
 def test_percentiles_are_numpys() -> None:

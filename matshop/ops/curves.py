@@ -8,19 +8,23 @@ frame keeps its tilt direction and a lobe its shape family. Which range maps
 to [0, 1] is the ``remap`` parameter (:mod:`.tone_range`): by default the
 values' own robust range in this image (so an S-curve raises the contrast of
 what is there, as in the paper's Fig. 7(b)), or the space's fixed range. The
-curve is a monotone cubic through the control points, sampled into a uniform
-lookup table: one fused pass per texel.
+curve is a monotone cubic through the control points. A curve of up to five
+points (and levels without a gamma) is evaluated exactly from its polynomial
+pieces in a vectorised pass (``_pieces.py``, 2x faster on 3 channels); more
+points, or a gamma, go through a uniform lookup table (``curve_lut``, whose
+interpolation errs below 1e-6 for moderate bends). One fused pass per texel.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from ..material import Schema
 from ._kernels import line_tables, lut_apply
+from ._pieces import Pieces, pieces_apply
 from .selection import Selection
 from .spec import WHOLE_IMAGE, OpError, OpSpec, OpTarget, ParamSpec, Reach
 from .tone_range import CLIP_PERCENT, REMAPS, Remap, ToneRange, tail_slope, tone_ranges
@@ -65,6 +69,60 @@ def levels_lut(
     return out_black + (out_white - out_black) * x ** (1.0 / gamma)
 
 
+def _end_slopes(lut: np.ndarray, tail: float) -> tuple[float, float]:
+    """Slopes beyond [0, 1]: ``tail`` (remap="data") or the table's end segments (-1)."""
+    if tail >= 0:
+        return tail, tail
+    last = lut.size - 1
+    return float(lut[1] - lut[0]) * last, float(lut[-1] - lut[-2]) * last
+
+
+def curve_pieces(points: Sequence[tuple[float, float]], tail: float) -> Pieces | None:
+    """The curve of :func:`curve_lut` as polynomial pieces (None: too many points).
+
+    The PCHIP's own cubics between the points (scipy's coefficients), the
+    straight lines :func:`curve_lut` continues with before the first and after
+    the last point, and beyond [0, 1] lines of the slopes ``tail`` gives.
+    """
+    from scipy.interpolate import PchipInterpolator
+
+    xs = np.array([p[0] for p in points], dtype=np.float64)
+    ys = np.array([p[1] for p in points], dtype=np.float64)
+    lut = curve_lut(points)
+    below, above = _end_slopes(lut, tail)
+    first = (ys[1] - ys[0]) / (xs[1] - xs[0])
+    pieces: list[tuple[float, tuple[float, ...]]] = [(0.0, (lut[0], below))]
+    if len(xs) == 2:
+        pieces.append((0.0, (lut[0], first)))
+    else:
+        if xs[0] > 0.0:
+            pieces.append((0.0, (lut[0], first)))
+        c = PchipInterpolator(xs, ys).c  # (4, pieces), highest power first
+        pieces += [(xs[i], tuple(c[::-1, i])) for i in range(len(xs) - 1)]
+        if xs[-1] < 1.0:
+            pieces.append((xs[-1], (ys[-1], (ys[-1] - ys[-2]) / (xs[-1] - xs[-2]))))
+    pieces.append((1.0, (lut[-1], above)))
+    return Pieces.build(pieces)
+
+
+def levels_pieces(
+    in_black: float, in_white: float, gamma: float, out_black: float, out_white: float, tail: float
+) -> Pieces | None:
+    """:func:`levels_lut` as straight pieces when ``gamma`` is 1 (None otherwise)."""
+    if gamma != 1.0:
+        return None
+    lut = levels_lut(in_black, in_white, gamma, out_black, out_white)
+    below, above = _end_slopes(lut, tail)
+    pieces: list[tuple[float, tuple[float, ...]]] = [(0.0, (out_black, below))]
+    if in_black > 0.0:
+        pieces.append((0.0, (out_black,)))
+    pieces.append((in_black, (out_black, (out_white - out_black) / (in_white - in_black))))
+    if in_white < 1.0:
+        pieces.append((in_white, (out_white,)))
+    pieces.append((1.0, (out_white, above)))
+    return Pieces.build(pieces)
+
+
 def apply_lut(
     edit: np.ndarray,
     lut: np.ndarray,
@@ -75,12 +133,21 @@ def apply_lut(
     op: str,
     remap: Remap = "data",
     clip_percent: float = CLIP_PERCENT,
+    pieces: Callable[[float], Pieces | None] | None = None,
 ) -> np.ndarray:
-    """Run a [0, 1] -> [0, 1] table over the selected parameters (per channel or by magnitude)."""
+    """Run a [0, 1] -> [0, 1] curve over the selected parameters (per channel or by magnitude).
+
+    ``pieces(tail)``, when given and not None, is the same curve as polynomial
+    pieces (:mod:`._pieces`), evaluated exactly in a vectorised pass; else the
+    table ``lut`` is interpolated.
+    """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op=op)
     block = selection.take(edit)
     ranges = tone_ranges(block, selection.groups, remap=remap, clip_percent=clip_percent)
     tail = tail_slope(remap)
+    curve = pieces(tail) if pieces is not None else None
+    if curve is not None:
+        return selection.put(edit, _apply_pieces(block, selection.groups, ranges, curve))
     lut = np.ascontiguousarray(lut, dtype=np.float64)
     # every group in one pass; a vector's channels keep an unused identity line
     width = block.shape[2]
@@ -109,6 +176,39 @@ def apply_lut(
         result,
     )
     return selection.put(edit, result)
+
+
+def _apply_pieces(
+    block: np.ndarray, groups: list, ranges: list[ToneRange], curve: Pieces
+) -> np.ndarray:
+    """The pieces through ``block`` (H, W, k): per channel, vectors by magnitude."""
+    height, width, channels = block.shape
+    lo = np.zeros(channels)
+    span = np.ones(channels)
+    vectors, bounds, quadrature, vector_ranges = [], [0], [], []
+    for group, tone in zip(groups, ranges, strict=True):
+        if tone.vector:
+            vectors += list(group.channels)
+            bounds.append(len(vectors))
+            quadrature += list(group.quadrature)
+            vector_ranges.append((tone.lo[0], 1.0 / tone.span[0], tone.span[0]))
+        else:
+            lo[group.channels], span[group.channels] = tone.lo, tone.span
+    result = np.empty(block.shape, dtype=np.float32)
+    pieces_apply(
+        np.ascontiguousarray(block),
+        np.tile(lo.astype(np.float32), width),
+        np.tile((1.0 / span).astype(np.float32), width),
+        np.tile(span.astype(np.float32), width),
+        np.array(vectors, dtype=np.int64),
+        np.array(bounds, dtype=np.int64),
+        np.array(quadrature, dtype=np.float64),
+        np.array(vector_ranges or [(0.0, 1.0, 1.0)], dtype=np.float32),
+        curve.breaks,
+        curve.coeffs,
+        result,
+    )
+    return result
 
 
 def curve_ranges(
@@ -157,6 +257,7 @@ def curves(
         op="curves",
         remap=remap,
         clip_percent=clip_percent,
+        pieces=lambda tail: curve_pieces(points, tail),
     )
 
 
@@ -189,6 +290,7 @@ def levels(
         op="levels",
         remap=remap,
         clip_percent=clip_percent,
+        pieces=lambda tail: levels_pieces(in_black, in_white, gamma, out_black, out_white, tail),
     )
 
 
