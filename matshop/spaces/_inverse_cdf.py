@@ -289,11 +289,12 @@ def _domain_knots(q_row, y, lo, hi, coord, us, ys):
     n = 1
     for j in range(m):
         v = np.float64(q_row[j])
-        if v != v:
-            v = prev
+        # float32 rounding of the edge itself (pi/2 stored as float32) is the edge; this
+        # clamp is monotone and idempotent, so clamping before the running maximum gives
+        # what clamping after it gave, and the only chain from texel to texel is the max
+        v = hi if (v > hi) & (v <= hi + edge_tol) else v
+        v = -np.inf if v != v else v  # NaN repeats the previous quantile
         v = max(v, prev)
-        if v > hi and v <= hi + edge_tol:
-            v = hi  # float32 rounding of the edge itself (pi/2 stored as float32)
         if v > hi:
             t = (hi - prev) / (v - prev) if v < np.inf else 0.0
             y_cut = prev_y + t * (y[j] - prev_y)
