@@ -22,7 +22,10 @@ from matshop.ops.selection import Selection
 from matshop.ops.tone_range import MAX_SAMPLES, _sample, percentiles, tail_slope
 
 SCHEMA = Schema.from_names(["base_color", "distribution", "normal", "metallic"])
-POINTS = [(0.0, 0.05), (0.3, 0.6), (0.7, 0.75), (1.0, 0.9)]
+POINTS = [(0.0, 0.05), (0.3, 0.6), (0.7, 0.75), (1.0, 0.9)]  # five pieces with the tails
+THREE_POINTS = [(0.0, 0.1), (0.4, 0.6), (1.0, 0.95)]  # four pieces: the short kernel loop
+INSIDE_POINTS = [(0.1, 0.0), (0.3, 0.5), (0.8, 1.0)]  # straight lines to 0 and to 1
+TWO_POINTS = [(0.2, 0.1), (0.9, 0.8)]  # a line
 
 
 def edit_array(height: int = 41, width: int = 53) -> np.ndarray:
@@ -100,10 +103,11 @@ def reference(edit, f, lut, *, schema, params, remap) -> np.ndarray:
 @pytest.mark.parametrize(
     "params", [None, ["normal"], ["metallic", "base_color"], ["distribution", "metallic"]]
 )
-def test_curves_equal_the_numpy_formulation(remap, params) -> None:
+@pytest.mark.parametrize("points", [POINTS, THREE_POINTS, INSIDE_POINTS, TWO_POINTS])
+def test_curves_equal_the_numpy_formulation(remap, params, points) -> None:
     edit = edit_array()
-    got = curves(edit, points=POINTS, schema=SCHEMA, params=params, remap=remap)
-    f, lut = exact_curve(POINTS), curve_lut(POINTS)
+    got = curves(edit, points=points, schema=SCHEMA, params=params, remap=remap)
+    f, lut = exact_curve(points), curve_lut(points)
     expected = reference(edit, f, lut, schema=SCHEMA, params=params, remap=remap)
     finite = np.abs(expected) < 1e6
     # float32 arithmetic: a few float32 ulps of the values and of the curve's reach

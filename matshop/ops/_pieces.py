@@ -61,11 +61,15 @@ class Pieces:
 
 
 @njit(inline="always", error_model="numpy", nogil=True)
-def _evaluate(t, b, k):
-    """``f(t)`` of the pieces ``b`` (starts) and ``k`` (coefficient rows), selects only."""
+def _evaluate(t, b, k, count):
+    """``f(t)`` of the first ``count`` pieces ``b`` (starts), ``k`` (coefficient rows).
+
+    Selects only; ``count`` is a constant at every call (4 or MAX_PIECES), so
+    the loop unrolls.
+    """
     c0, c1, c2, c3 = k[0]
     x0 = np.float32(0.0)
-    for i in range(1, MAX_PIECES):  # a constant trip count: unrolled into selects
+    for i in range(1, count):
         on = t >= b[i]
         c0 = k[i][0] if on else c0
         c1 = k[i][1] if on else c1
@@ -99,9 +103,15 @@ def _pieces_row(src, lo, inv_span, span, breaks, coeffs, out):
         (coeffs[6, 0], coeffs[6, 1], coeffs[6, 2], coeffs[6, 3]),
         (coeffs[7, 0], coeffs[7, 1], coeffs[7, 2], coeffs[7, 3]),
     )
-    for i in range(src.shape[0]):
-        t = (src[i] - lo[i]) * inv_span[i]
-        out[i] = lo[i] + span[i] * _evaluate(t, b, k)
+    # a curve of three points is four pieces: half the selects
+    if breaks[4] != breaks[4]:
+        for i in range(src.shape[0]):
+            t = (src[i] - lo[i]) * inv_span[i]
+            out[i] = lo[i] + span[i] * _evaluate(t, b, k, 4)
+    else:
+        for i in range(src.shape[0]):
+            t = (src[i] - lo[i]) * inv_span[i]
+            out[i] = lo[i] + span[i] * _evaluate(t, b, k, MAX_PIECES)
 
 
 @njit(**_FLAGS)
@@ -152,7 +162,7 @@ def _vectors_row(src, vectors, bounds, quadrature, ranges, breaks, coeffs, out):
                 gain[col] = sq
         for col in range(src.shape[0]):
             m = np.sqrt(gain[col])
-            mapped = max(vlo + vspan * _evaluate((m - vlo) * vinv, b, k), zero)
+            mapped = max(vlo + vspan * _evaluate((m - vlo) * vinv, b, k, MAX_PIECES), zero)
             gain[col] = mapped / m if m > zero else zero
         if frame:
             for col in range(src.shape[0]):
