@@ -1,4 +1,4 @@
-"""numba kernels for the per-texel editing spaces (colors, scalars, GGX, frames).
+"""numba kernels for the per-texel editing spaces (colors, scalars, GGX, Phong, frames).
 
 Each kernel is one parallel pass over ``(N, C)`` float32 texels of any row
 stride: it reads a band of a file map and writes straight into the edit

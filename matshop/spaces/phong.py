@@ -65,7 +65,6 @@ N_MAX = 1.0e6
 N_FLOOR_PAPER = 1.0e-6
 
 _F32 = np.float32
-_LN2 = _F32(np.log(2.0))
 _N_MAX = _F32(N_MAX)
 
 
@@ -122,7 +121,7 @@ def median_to_edit(n: np.ndarray) -> np.ndarray:
     Evaluated as ``2 asin(sqrt((1 - cos e) / 2))`` with ``1 - cos e =
     -expm1(-ln 2 / (n + 2))`` so that large exponents (tiny angles) keep full
     precision: one fused kernel pass in float64 (``_kernels``), correctly
-    rounded to float32 within half an ulp (tests/test_analytic_spaces.py).
+    rounded to float32 within half an ulp (tests/test_kernels.py).
     """
     return _MEDIAN_TO.run(*_in_out(n))
 
