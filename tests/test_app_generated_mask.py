@@ -20,6 +20,7 @@ pytest.importorskip("pytestqt")
 
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
+from matshop.app.layer_model import MASK_ROLE  # noqa: E402
 from matshop.app.testing import Heartbeat, drag, shown_window  # noqa: E402
 from matshop.layers import Document, flatten_reference  # noqa: E402
 from matshop.material import EditMaterial  # noqa: E402
@@ -74,6 +75,12 @@ def test_choose_tune_and_repaint_below_a_generated_mask(window, qtbot) -> None:
     assert session.steps == steps + 1
     qtbot.waitUntil(lambda: window.background.ready, timeout=60000)
     np.testing.assert_allclose(doc.generated_mask(dirt), from_scratch(doc, dirt), atol=1e-5)
+    # the layers panel shows it as the layer's mask thumbnail: every 16th texel, as gray codes
+    model = window.layers_panel.model
+    thumb = model.data(model.index(model.row_of(dirt)), MASK_ROLE).toImage()
+    codes = np.array([[thumb.pixelColor(x, y).red() for x in range(32)] for y in range(32)])
+    expected = np.round(from_scratch(doc, dirt)[::16, ::16] * 255)
+    assert np.abs(codes - expected).max() <= 1 and codes.max() > 200
     # a radius drag on the slider: many ticks, one undo step
     slider = panel.sliders["radius_px"].slider
     slider.setSliderDown(True)  # as a mouse press on the handle does

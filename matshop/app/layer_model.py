@@ -12,8 +12,10 @@ layers whose content changed, once the edit that changed it is recorded.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+import numpy as np
 from PySide6.QtCore import QAbstractListModel, QModelIndex, QObject, QPersistentModelIndex, Qt
 from PySide6.QtGui import QIcon, QPixmap
 
@@ -21,7 +23,7 @@ from ..layers import Document, FilterLayer, Layer, PaintLayer
 from .icons import icon
 from .layer_commands import LayerCommands
 from .session import DocumentSession
-from .thumbnails import gray_pixmap, grid_thumbnail
+from .thumbnails import THUMB, gray_pixmap, grid_thumbnail
 
 ID_ROLE = Qt.ItemDataRole.UserRole
 DEPTH_ROLE = Qt.ItemDataRole.UserRole + 1
@@ -127,7 +129,7 @@ class LayerStackModel(QAbstractListModel):
         self._update_depths()  # a group came or went: its members' indent changes
 
     def _property_changed(self, layer_id: int, name: str) -> None:
-        if name in ("mask", "mask_inverted"):
+        if name in ("mask", "mask_inverted", "mask_generator", "generated_mask"):
             self._thumbs.pop((layer_id, "mask"), None)
             self._stale.discard((layer_id, "mask"))
         if name == "parent":
@@ -178,7 +180,11 @@ class LayerStackModel(QAbstractListModel):
     def _thumbnail(self, layer: Layer, target: str) -> QIcon | QPixmap | None:
         key = (layer.id, target)
         if key not in self._thumbs:
-            self._thumbs[key] = _draw(layer, target)
+            generated = None
+            if target == "mask" and self._doc is not None:
+                # only a mask at hand: the background flatten makes a stale one
+                generated = self._doc.generated_mask(layer.id, compute=False)
+            self._thumbs[key] = _draw(layer, target, generated)
         return self._thumbs[key]
 
     # -- the model -----------------------------------------------------------------------
@@ -260,12 +266,21 @@ class LayerStackModel(QAbstractListModel):
         return self._doc.index_of(layer_id) == index
 
 
-def _draw(layer: Layer, target: str) -> QIcon | QPixmap | None:
-    """A paint layer's coverage as an icon, or the mask as a pixmap (None: nothing to show)."""
+def _draw(
+    layer: Layer, target: str, generated: np.ndarray | None = None
+) -> QIcon | QPixmap | None:
+    """A paint layer's coverage as an icon, or the mask (times the ``generated`` one) as a
+    pixmap (None: nothing to show)."""
     if target == "mask":
-        if layer.mask is None:
-            return None
-        return gray_pixmap(grid_thumbnail(layer.mask, 0), invert=layer.mask_inverted)
+        shown = None
+        if layer.mask is not None:
+            shown = grid_thumbnail(layer.mask, 0)
+            shown = 1.0 - shown if layer.mask_inverted else shown
+        if generated is not None:
+            step = max(1, math.ceil(max(generated.shape) / THUMB))
+            small = generated[::step, ::step]
+            shown = small if shown is None else small * shown
+        return None if shown is None else gray_pixmap(shown)
     if isinstance(layer, PaintLayer) and layer.pixels is not None and len(layer.pixels):
         return QIcon(gray_pixmap(grid_thumbnail(layer.pixels, -1)))
     return None

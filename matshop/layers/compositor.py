@@ -246,14 +246,15 @@ class Compositor:
 
     # -- generated masks ---------------------------------------------------
 
-    def mask_of(self, index: int) -> np.ndarray | None:
+    def mask_of(self, index: int, compute: bool = True) -> np.ndarray | None:
         """The generated mask ``(H, W)`` of ``layers[index]`` (computed once per change
-        below), or None when its mask is not generated. Read-only."""
+        below; ``compute=False``: only if it is at hand), or None when its mask is not
+        generated. Read-only."""
         layer = self.doc.layers[index]
         if layer.mask_generator is None:
             return None
         mask = self.generated.get(layer.id)
-        if mask is None:
+        if mask is None and compute:
             below = self.composite(index, self.doc.layout.bounds)
             mask = generated_mask(layer, self.doc.schema, below)
             mask.flags.writeable = False

@@ -504,10 +504,11 @@ class Document:
         """
         return self._compositor.read(self.index_of(layer_id) + 1, rect, "wrap")
 
-    def generated_mask(self, layer_id: int) -> np.ndarray | None:
+    def generated_mask(self, layer_id: int, *, compute: bool = True) -> np.ndarray | None:
         """The mask ``(H, W)`` a layer's mask generator makes of the material below it, as
-        the flatten uses it (recomputed only after a change below); None: not generated."""
-        return self._compositor.mask_of(self.index_of(layer_id))
+        the flatten uses it (recomputed only after a change below); None: not generated,
+        or ``compute=False`` and not computed yet (what a thumbnail on the GUI thread asks)."""
+        return self._compositor.mask_of(self.index_of(layer_id), compute)
 
     def flatten(self, *, copy: bool = True) -> EditMaterial:
         """The flattened document as an :class:`EditMaterial`."""
@@ -582,7 +583,10 @@ class Document:
             raise ValueError("the snapshot is of another document state")
         compositor = snapshot._compositor
         compositor.doc = self
+        known = set(self._compositor.generated)
         self._compositor = compositor
+        for layer_id in compositor.generated.keys() - known:
+            self.events.layer.emit(layer_id, "generated_mask")  # thumbnails may show it now
 
     def stale_global_layers(self) -> list[Layer]:
         """Visible layers reading the whole image that the next flatten must recompute.

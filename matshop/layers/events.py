@@ -73,7 +73,8 @@ class DocumentEvents:
     - ``layers(kind, layer_id, index)``: a layer was inserted, removed or moved
       (``kind`` is ``"insert"``, ``"remove"`` or ``"move"``).
     - ``layer(layer_id, property)``: a layer property changed (``"mask"`` for
-      adding or removing the mask).
+      adding or removing the mask; ``"generated_mask"`` when a worker's flatten
+      brought the layer's generated mask).
     - ``content(layer_id, target, keys)``: tiles of a layer's ``"pixels"`` or
       ``"mask"`` changed (thumbnails; also emitted for hidden layers).
     """
