@@ -114,3 +114,14 @@ def linear_from_code(code: np.ndarray) -> np.ndarray:
         below = srgb_encode(aces(mid)) < target
         lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
     return 0.5 * (lo + hi)
+
+
+def artists_hdr(path: Path) -> Path:
+    """An equirect HDR unlike the presets: warm horizon, blue zenith, two bright windows."""
+    rows = 128
+    v = (np.arange(rows) + 0.5) / rows
+    sky = np.stack([0.4 + 0.6 * v, 0.5 + 0.2 * v, 1.2 - 0.8 * v], axis=-1).astype(np.float32)
+    image = np.repeat(sky[:, None, :], 2 * rows, axis=1)
+    image[30:40, 40:56] = (60.0, 55.0, 40.0)
+    image[50:54, 180:200] = (5.0, 9.0, 20.0)
+    return write_image(path, np.ascontiguousarray(image))

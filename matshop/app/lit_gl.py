@@ -7,6 +7,8 @@ it requests and never waits for it:
 - ``set_document(snapshot, keys)``: the material changed; the worker uploads
   the snapshot's shading textures (all of them, or only the dirty tiles
   ``keys``), flattening the snapshot there, off the GUI thread;
+- ``set_lighting(environment, exposure_stops)``: the artist's lighting
+  (:mod:`.lighting`); the environment's textures are uploaded there;
 - ``request(generation, light)``: draw this light. Only uniforms change.
   When the full-resolution pass is predicted to take longer than the
   budgets of :data:`COARSE_BUDGETS_S`, coarser passes (mip levels of the
@@ -33,6 +35,7 @@ from PySide6.QtCore import QCoreApplication, QThread, Signal
 
 from ..layers import Document
 from ..layers.geometry import TileKey
+from ..render.environment import Environment
 from . import lit_scene
 
 #: longest the coarse passes should take: the first follows the drag, the second is a
@@ -98,6 +101,7 @@ class GLLitWorker(QThread):
         self._snapshot: Document | None = None
         self._keys: set[TileKey] | None = set()  # the tiles it changed (None: all)
         self._light: tuple[int, tuple[float, float, float]] | None = None
+        self._lighting: tuple[Environment, float] | None = None
         self._stopping = False
         self.s_per_pixel = INITIAL_S_PER_PIXEL
         #: the latest material uploads: ("all" or "tiles", bytes sent)
@@ -114,6 +118,12 @@ class GLLitWorker(QThread):
         with self._cond:
             self._keys = None if keys is None or self._keys is None else self._keys | keys
             self._snapshot = snapshot
+            self._cond.notify()
+
+    def set_lighting(self, environment: Environment, exposure_stops: float) -> None:
+        """Light with ``environment`` at ``exposure_stops`` (drawn at the next request)."""
+        with self._cond:
+            self._lighting = (environment, exposure_stops)
             self._cond.notify()
 
     def request(self, generation: int, light: tuple[float, float, float]) -> None:
@@ -151,6 +161,7 @@ class GLLitWorker(QThread):
                     while (
                         not self._stopping
                         and self._snapshot is None
+                        and self._lighting is None
                         and (self._light is None or not uploaded)
                     ):
                         self._cond.wait()
@@ -159,6 +170,10 @@ class GLLitWorker(QThread):
                     snapshot, keys = self._snapshot, self._keys
                     self._snapshot, self._keys = None, set()
                     request, self._light = self._light, None
+                    lighting, self._lighting = self._lighting, None
+                if lighting is not None:
+                    renderer.set_environment(lighting[0])
+                    light.exposure = lighting[1]
                 if snapshot is not None:
                     if keys is None or not uploaded:
                         self.uploads.append(("all", renderer.set_document(snapshot)))
@@ -176,7 +191,12 @@ class GLLitWorker(QThread):
 
     def _newer(self) -> bool:
         with self._cond:
-            return self._stopping or self._light is not None or self._snapshot is not None
+            return (
+                self._stopping
+                or self._light is not None
+                or self._snapshot is not None
+                or self._lighting is not None
+            )
 
     def _render(self, renderer, generation: int, direction: tuple[float, float, float]) -> None:
         renderer.lighting.lights = lit_scene.lights(direction)

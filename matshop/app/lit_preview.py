@@ -32,6 +32,8 @@ from PySide6.QtGui import QAction, QImage
 from ..layers import Document
 from ..layers.events import DirtyRegion
 from ..layers.geometry import TileKey
+from ..render.environment import Environment
+from ..render.environment_choice import EnvironmentChoice
 from ..viewport.canvas import TextureCanvas
 from . import lit_scene
 from .lit_scene import light_direction
@@ -55,6 +57,8 @@ class _Job:
     doc: Document
     light: tuple[float, float, float]
     shape: tuple[int, int]
+    environment: Environment | None = None
+    exposure_stops: float = 0.0
     image: np.ndarray | None = None
     error: BaseException | None = None
     seconds: float = 0.0
@@ -91,6 +95,9 @@ class LitPreview(QObject):
         self.gl_problem: str | None = None
         self.gl = None  # the GLLitWorker, made on first use
         self.light = light_direction(-0.45, -0.55)  # upper left, like most product shots
+        #: the artist's environment (None: the studio) and exposure (:mod:`.lighting`)
+        self.environment: Environment | None = None
+        self.exposure_stops = 0.0
         self.generation = 0
         self.job: _Job | None = None
         self.last_seconds = 0.0
@@ -148,6 +155,20 @@ class LitPreview(QObject):
         self.canvas.set_refining(True)
         if self.gl is not None and self._material_sent:
             self.gl.request(self.generation, self.light)  # uniforms only: at once
+        else:
+            self._timer.start()
+
+    def set_lighting(self, choice: EnvironmentChoice, environment: Environment) -> None:
+        """Light with the editor's choice (:class:`.lighting.LightingController`)."""
+        self.environment, self.exposure_stops = environment, choice.exposure_stops
+        if self.gl is not None:
+            self.gl.set_lighting(environment, self.exposure_stops)
+        self.generation += 1
+        if not self.enabled:
+            return
+        self.canvas.set_refining(True)
+        if self.gl is not None and self._material_sent:
+            self.gl.request(self.generation, self.light)
         else:
             self._timer.start()
 
@@ -210,6 +231,8 @@ class LitPreview(QObject):
             return
         self.gl.frame.connect(self._gl_frame)
         self.gl.failed.connect(self._gl_failed)
+        if self.environment is not None:
+            self.gl.set_lighting(self.environment, self.exposure_stops)
         self.gl.start()
         self._dirty, self._material_sent = None, False
 
@@ -246,7 +269,14 @@ class LitPreview(QObject):
     def _start_reference(self, doc: Document) -> None:
         if self.job is not None:
             return  # the running job reschedules when it ends
-        job = _Job(self.generation, doc.snapshot(), self.light, self._reference_shape())
+        job = _Job(
+            self.generation,
+            doc.snapshot(),
+            self.light,
+            self._reference_shape(),
+            self.environment,
+            self.exposure_stops,
+        )
         self.job = job
 
         def progress(_done: int, _total: int) -> None:
@@ -257,7 +287,14 @@ class LitPreview(QObject):
             began = time.perf_counter()
             try:
                 material = job.doc.flatten_physical()
-                job.image = lit_scene.reference_image(material, job.light, job.shape, progress)
+                job.image = lit_scene.reference_image(
+                    material,
+                    job.light,
+                    job.shape,
+                    progress,
+                    environment=job.environment,
+                    exposure_stops=job.exposure_stops,
+                )
             except _Superseded:
                 pass
             except BaseException as exc:  # reported on the GUI thread

@@ -4,7 +4,10 @@ Both renderers of the lit display read their settings here, so the OpenGL
 pass (:mod:`.lit_gl`) and the reference fallback draw the same picture: the
 flattened material as :func:`matshop.render.scenes.swatch` (one pixel per
 texel, tilted 30 degrees towards the sky), one directional light, a quarter
-of the studio environment, 4 environment samples per pixel.
+of the lighting environment the artist chose (:mod:`.lighting`: the studio
+unless View > Lighting says otherwise; a quarter, so the light dragged over the
+canvas keeps raking the relief), 4 environment samples per pixel, the chosen
+exposure.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ import numpy as np
 
 from ..material import Material
 from ..render import scenes
+from ..render.environment import Environment
 from ..render.integrator import DirectionalLight
 from ..render.render import render
 
@@ -53,11 +57,16 @@ def reference_image(
     direction: tuple[float, float, float],
     shape: tuple[int, int],
     progress=None,
+    *,
+    environment: Environment | None = None,
+    exposure_stops: float = 0.0,
 ) -> np.ndarray:
-    """The reference renderer's lit swatch of ``shape`` (height, width) pixels, as RGBA8."""
+    """The reference renderer's lit swatch of ``shape`` (height, width) pixels, as RGBA8
+    (``environment`` None: the studio)."""
     image = render(
         material,
         scene=scenes.swatch(shape, tilt_deg=TILT_DEG),
+        environment=environment,
         size=max(shape),
         lights=lights(direction),
         environment_scale=ENVIRONMENT_SCALE,
@@ -65,4 +74,4 @@ def reference_image(
         background=BACKGROUND,
         progress=progress,
     )
-    return to_rgba8(image.display())
+    return to_rgba8(image.display(exposure=exposure_stops))

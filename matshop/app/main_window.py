@@ -27,6 +27,7 @@ from PySide6.QtWidgets import (
 from .. import __version__
 from ..layers import Rect
 from ..paint.sampling import warm_up
+from ..render.environment_choice import EnvironmentChoice
 from ..tools.base import Tool
 from ..tools.painting import TOOL_CLASSES
 from ..tools.settings import BrushSettings, SwatchModel
@@ -44,6 +45,8 @@ from .history_panel import HistoryPanel
 from .image_import import import_image, is_image
 from .layer_commands import LayerCommands
 from .layers_panel import LayersPanel
+from .lighting import LightingController
+from .lighting_bar import LightingBar
 from .lit_preview import LitPreview
 from .menus import build_actions, build_menus
 from .prompts import Prompts
@@ -88,6 +91,9 @@ class MainWindow(QMainWindow):
         self.tools: dict[str, Tool] = {cls.name: cls(self.host) for cls in TOOL_CLASSES}
         self.curves_dialog: CurvesDialog | None = None
         self.canvas = TextureCanvas()
+        # one lighting for the 3D view and the lit display (before the menus: View > Lighting)
+        self.lighting = LightingController(self.app_settings)
+        self.lighting_bar = LightingBar(self.lighting, self.prompts, self)
         self.actions_by_name = build_actions(self)
         build_menus(self, self.actions_by_name)
         self._build_central()
@@ -101,6 +107,13 @@ class MainWindow(QMainWindow):
             self._tool_busy,
         )
         self.lit_preview.message.connect(self.show_message)
+        self.addToolBar(self.lighting_bar)
+        self.lighting.message.connect(self.show_message)
+        self.lighting.changed.connect(self.lit_preview.set_lighting)
+        self.lighting.changed.connect(self.view3d.show_lighting)
+        saved = self.app_settings.lighting()
+        if saved is None or not self.lighting.restore(saved):
+            self.lighting.choose(EnvironmentChoice())
         self._build_status()
 
         self.session.documentReplaced.connect(self._document_replaced)
@@ -320,9 +333,12 @@ class MainWindow(QMainWindow):
             "brush": self.brush_settings.to_json(),
             "swatch": self.swatch_model.to_json(),
             "view3d_mirror": self.view3d.mirror_state(),
+            "lighting": self.lighting.target().to_json(),
         }
 
     def apply_editor_state(self, state: dict[str, Any]) -> None:
+        if "lighting" in state:  # a project of an older version has none: keep the current
+            self.lighting.restore(state["lighting"])
         doc = self.session.doc
         if doc is None:
             return

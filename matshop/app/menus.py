@@ -229,6 +229,7 @@ def build_menus(w: EditorWindow, a: dict[str, QAction]) -> None:
     view_menu.addSeparator()
     view_menu.addAction(a["view3d"])
     view_menu.addAction(a["lit"])
+    view_menu.addMenu(w.lighting_bar.menu)
     w.parameter_menu = view_menu.addMenu("&Parameter")
     w.panels_menu = view_menu.addMenu("P&anels")
 

@@ -21,6 +21,7 @@ SaveAnswer = Literal["save", "discard", "cancel"]
 
 IMAGE_FILTER = "*.png *.jpg *.jpeg *.tga *.tif *.tiff *.exr *.hdr *.bmp"
 MESH_FILTER = "Meshes (*.obj *.gltf *.glb);;All files (*)"
+ENVIRONMENT_FILTER = "Equirectangular HDR (*.hdr *.exr);;All files (*)"
 RECIPE_FILTER = "Recipes (*.toml);;All files (*)"
 OPEN_FILTER = (
     f"Projects and textures (*.matshop {IMAGE_FILTER});;matshop projects (*.matshop);;"
@@ -125,6 +126,13 @@ class Prompts:
 
     def open_mesh(self, start: str = "") -> Path | None:
         path, _ = QFileDialog.getOpenFileName(self.parent, "Open mesh", start, MESH_FILTER)
+        return Path(path) if path else None
+
+    def open_environment(self, start: str = "") -> Path | None:
+        """An equirectangular .hdr/.exr to light the views with."""
+        path, _ = QFileDialog.getOpenFileName(
+            self.parent, "Lighting environment", start, ENVIRONMENT_FILTER
+        )
         return Path(path) if path else None
 
     def open_recipe(self, start: str = "") -> Path | None:

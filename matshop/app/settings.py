@@ -6,7 +6,9 @@ never read or write the user's settings.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
+from typing import Any
 
 from PySide6.QtCore import QByteArray, QSettings, QStandardPaths
 
@@ -48,6 +50,19 @@ class AppSettings:
     def save_geometry(self, geometry: QByteArray, state: QByteArray) -> None:
         self.q.setValue("window/geometry", geometry)
         self.q.setValue("window/state", state)
+
+    # -- lighting ------------------------------------------------------------------
+
+    def lighting(self) -> Any:
+        """The last lighting choice (EnvironmentChoice.to_json), None if none or unreadable."""
+        text = self.q.value("view/lighting")
+        try:
+            return json.loads(str(text)) if text else None
+        except ValueError:
+            return None
+
+    def save_lighting(self, data: dict[str, Any]) -> None:
+        self.q.setValue("view/lighting", json.dumps(data))
 
     # -- autosave ------------------------------------------------------------------
 

@@ -41,6 +41,8 @@ class ScriptedPrompts(Prompts):
         #: the answer to a height image's displacement in texels (given the default)
         self.height_px: Callable[[float], float | None] = lambda default: default
         self.recipe_path: Path | None = None
+        #: the answer to View > Lighting > Open HDR/EXR… (None: cancel)
+        self.environment_path: Path | None = None
         self.folder: Path | None = None
         self.preset: str | None = None
         #: the review of a texture set: returns the set to open (corrected) or None (cancel)
@@ -99,6 +101,10 @@ class ScriptedPrompts(Prompts):
     def open_mesh(self, start: str = "") -> Path | None:
         self.asked.append(("open_mesh", start))
         return self.mesh_path
+
+    def open_environment(self, start: str = "") -> Path | None:
+        self.asked.append(("open_environment", start))
+        return self.environment_path
 
     def open_recipe(self, start: str = "") -> Path | None:
         self.asked.append(("open_recipe", start))

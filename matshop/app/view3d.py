@@ -107,11 +107,20 @@ def _viewport_class() -> type:
             self.dock = dock
             self._deferred: set = set()
             # one key light over the left shoulder, so relief and gloss read at a glance
-            self.lighting.lights = (DirectionalLight((-0.5, 0.7, 0.6), (2.0, 2.0, 2.0)),)
+            self.key_light = DirectionalLight((-0.5, 0.7, 0.6), (2.0, 2.0, 2.0))
+            self.lighting.lights = (self.key_light,)
             self.setMinimumSize(160, 160)
             self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
             #: the user orbited, panned or zoomed: resizes no longer reframe the mesh
             self.camera_moved = False
+
+        def show_lighting(self, choice, environment) -> None:
+            """Light with the editor's choice (:mod:`.lighting`). The studio keeps the
+            view's key light; any other environment (the sky's sun, the artist's HDR)
+            is the whole light, as ``matshop render --env`` renders it."""
+            self.lighting.lights = (self.key_light,) if choice.source == "studio" else ()
+            self.lighting.exposure = choice.exposure_stops
+            self.set_environment(environment)
 
         def fit_camera(self) -> None:
             """Front view, backed off so the unit-sphere-sized mesh fits the narrower side."""
@@ -368,6 +377,9 @@ class View3DDock(QDockWidget):
         self.set_mesh(self.mesh_combo.currentData())
         self.viewport.set_keep_variance(self.keep_variance_action.isChecked())
         self.viewport.set_mirror(self.mirror_plane())
+        lighting = self.window_.lighting
+        if lighting.environment is not None:
+            self.viewport.show_lighting(lighting.choice, lighting.environment)
         self._document_replaced()
         return self.viewport
 
@@ -376,6 +388,11 @@ class View3DDock(QDockWidget):
     def _keep_variance_toggled(self, on: bool) -> None:
         if self.viewport is not None:
             self.viewport.set_keep_variance(on)
+
+    def show_lighting(self, choice, environment) -> None:
+        """The editor's lighting changed (:class:`.lighting.LightingController`)."""
+        if self.viewport is not None:
+            self.viewport.show_lighting(choice, environment)
 
     def _document_replaced(self) -> None:
         if self.viewport is not None:

@@ -23,6 +23,8 @@ if TYPE_CHECKING:
     from .files import FileController
     from .layer_commands import LayerCommands
     from .layers_panel import LayersPanel
+    from .lighting import LightingController
+    from .lighting_bar import LightingBar
     from .prompts import Prompts
     from .session import DocumentSession
     from .tool_host import EditorToolHost
@@ -46,6 +48,8 @@ class EditorWindow(Protocol):
     panels_menu: QMenu
     parameter_menu: QMenu
     recent_menu: QMenu
+    lighting: LightingController
+    lighting_bar: LightingBar
 
     # the window's commands
     def undo(self) -> None: ...

@@ -139,6 +139,11 @@ class SwatchRenderer:
                 stale[rect.y0 >> level : -(-rect.y1 >> level)] = True
         return textures.update_tiles(keys)
 
+    def set_environment(self, environment: Environment) -> None:
+        """Light with ``environment`` from now on (every level's base is out of date)."""
+        self.renderer.set_environment(environment)
+        self._stale = {}
+
     def size(self, level: int = 0) -> tuple[int, int]:
         """``(width, height)`` of the pass at ``level`` (each level halves both)."""
         return max(1, self.width >> level), max(1, self.height >> level)
