@@ -159,16 +159,22 @@ class LightingController(QObject):
             self.message.emit(f"Loading the environment {name}… {100 * done // max(total, 1)}%")
 
     def _finished(self, job: _Load) -> None:
+        if job.error is None:  # kept even when outdated: a newer turn of it reuses it
+            self._base = (_source_key(job.choice.source), job.base)
         if job.generation != self.generation:
             return  # a newer choice is on its way
         self.pending = None
         self.busyChanged.emit(False)
         if job.error is not None:
-            text = str(job.error) if isinstance(job.error, MatshopError) else repr(job.error)
+            text = (
+                str(job.error)
+                if isinstance(job.error, MatshopError)
+                else f"{job.choice.source}: {type(job.error).__name__}: "
+                + " ".join(str(job.error).split())
+            )
             self.message.emit(f"Lighting: {text}; still lit by {self.choice.label}")
             self.failed.emit(text)
             return
-        self._base = (_source_key(job.choice.source), job.base)
         self.last_seconds = job.seconds
         if job.choice.is_file:
             self.message.emit(f"Lit by {job.choice.label} ({job.seconds:.1f} s to load)")

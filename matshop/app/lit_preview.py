@@ -16,7 +16,8 @@ Two renderers, one picture (:mod:`.lit_scene` holds the scene and light):
 Both work on document *snapshots*, never during a stroke (its open
 transaction writes tiles in place); a generation counter bumped by every
 change marks pictures that are out of date. A right-button drag on the
-canvas moves the light (the cursor's direction from the image centre tilts it).
+canvas moves the light (the cursor's direction from the image centre tilts it);
+the environment and exposure are the editor's lighting choice (:mod:`.lighting`).
 """
 
 from __future__ import annotations

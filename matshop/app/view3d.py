@@ -52,6 +52,8 @@ from ..tools.painting import MASK_HIDE
 from .prompts import Prompts
 
 if TYPE_CHECKING:
+    from ..render.environment import Environment
+    from ..render.environment_choice import EnvironmentChoice
     from .window_parts import EditorWindow
 
 #: the shared meshes (../shared/data/geometry next to the repository), when present
@@ -114,7 +116,7 @@ def _viewport_class() -> type:
             #: the user orbited, panned or zoomed: resizes no longer reframe the mesh
             self.camera_moved = False
 
-        def show_lighting(self, choice, environment) -> None:
+        def show_lighting(self, choice: EnvironmentChoice, environment: Environment) -> None:
             """Light with the editor's choice (:mod:`.lighting`). The studio keeps the
             view's key light; any other environment (the sky's sun, the artist's HDR)
             is the whole light, as ``matshop render --env`` renders it."""
@@ -389,7 +391,7 @@ class View3DDock(QDockWidget):
         if self.viewport is not None:
             self.viewport.set_keep_variance(on)
 
-    def show_lighting(self, choice, environment) -> None:
+    def show_lighting(self, choice: EnvironmentChoice, environment: Environment) -> None:
         """The editor's lighting changed (:class:`.lighting.LightingController`)."""
         if self.viewport is not None:
             self.viewport.show_lighting(choice, environment)

@@ -72,6 +72,10 @@ class MaterialRenderer:
     # -- content -----------------------------------------------------------
 
     def set_environment(self, environment: Environment | str | None) -> None:
+        """Upload ``environment`` (a name or path is loaded first); the one already
+        uploaded is kept (an exposure change hands the same one again)."""
+        if self.environment is not None and self.environment.env is environment:
+            return
         env = environment if isinstance(environment, Environment) else load_environment(environment)
         if self.environment is not None:
             self.environment.delete()

@@ -140,9 +140,12 @@ class SwatchRenderer:
         return textures.update_tiles(keys)
 
     def set_environment(self, environment: Environment) -> None:
-        """Light with ``environment`` from now on (every level's base is out of date)."""
-        self.renderer.set_environment(environment)
-        self._stale = {}
+        """Light with ``environment`` from now on (every level's base is out of date, unless
+        it is the environment already in use)."""
+        current = self.renderer.environment
+        if current is None or current.env is not environment:
+            self.renderer.set_environment(environment)
+            self._stale = {}
 
     def size(self, level: int = 0) -> tuple[int, int]:
         """``(width, height)`` of the pass at ``level`` (each level halves both)."""
