@@ -155,7 +155,9 @@ class Environment:
         weighted = (source * omega[..., None].astype(np.float32)).reshape(-1, 3).astype(np.float64)
         out_cols, out_rows = _IRR_SIZE
         normals, _ = texel_directions(out_rows, out_cols)
-        cosines = np.clip(normals.reshape(-1, 3) @ dirs.reshape(-1, 3).T, 0.0, None)
+        cosines = normals.reshape(-1, 3) @ dirs.reshape(-1, 3).T
+        # in place: np.clip on these 2048 x 8192 cosines took 0.8 of a 1.1 s prefilter
+        np.maximum(cosines, 0.0, out=cosines)
         return (cosines @ weighted).reshape(out_rows, out_cols, 3).astype(np.float32)
 
     def irradiance(self, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:

@@ -77,6 +77,7 @@ class EnvironmentChoice:
                 )
             if not path.is_file():
                 raise MatshopError("no such environment file", text)
+            text = os.path.abspath(text)  # settings and projects outlive the working folder
         rotation = _number(rotation_deg, "the environment rotation (degrees)", -1e6, 1e6) % 360.0
         exposure = _number(exposure_stops, "the exposure (stops)", *EXPOSURE_RANGE_STOPS)
         return cls(text, rotation, exposure)
