@@ -403,3 +403,11 @@ def test_export_with_the_gltf_preset_writes_what_the_cli_writes(window, tmp_path
     assert app_files and app_files == cli_files
     assert any(name.endswith(".png") for name in app_files)
     assert len(doc) == 3
+
+
+def test_the_tool_panel_scrolls_up_and_down_never_sideways(window) -> None:
+    # a row wider than the dock (the mirror centre's boxes, the pressure curve) would hide
+    # its right end behind a horizontal scroll bar
+    area = window.tool_dock.widget()
+    assert area.viewport().width() >= window.tool_panel.minimumSizeHint().width()
+    assert area.horizontalScrollBar().maximum() == 0

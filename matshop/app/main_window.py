@@ -243,11 +243,20 @@ class MainWindow(QMainWindow):
         self.history_dock = self._dock("History", "history_dock", self.history_panel, right)
         self.tabifyDockWidget(self.properties_dock, self.history_dock)
         self.properties_dock.raise_()
-        self.resizeDocks([self.tool_dock], [290], Qt.Orientation.Horizontal)
+        self.resizeDocks([self.tool_dock], [self._tool_dock_width()], Qt.Orientation.Horizontal)
         self.resizeDocks([self.layers_dock], [310], Qt.Orientation.Horizontal)
         self.resizeDocks(
             [self.layers_dock, self.properties_dock], [520, 360], Qt.Orientation.Vertical
         )
+
+    def _tool_dock_width(self) -> int:
+        """Wide enough for the tool panel's widest row beside a vertical scroll bar: the
+        panel scrolls up and down, never sideways (a cut-off row hides its right end)."""
+        area = self.tool_dock.widget()
+        assert isinstance(area, QScrollArea)
+        scroll_bar = area.verticalScrollBar().sizeHint().width()
+        panel = self.tool_panel.minimumSizeHint().width()
+        return max(290, panel + scroll_bar + 2 * area.frameWidth())
 
     def _build_status(self) -> None:
         status = self.statusBar()
