@@ -267,8 +267,9 @@ def _texture_writer(
     warnings: list[str],
     png_level: int | None = None,
 ) -> Callable[[Path], None]:
-    """The closure writing one texture; packing happens only when it runs
-    (one output in memory at a time). Clipping is reported in ``warnings``."""
+    """The closure writing one texture; packing happens only when it runs (files are
+    written two at a time, so at most two outputs are in memory). Clipping is reported in
+    ``warnings``."""
 
     def write(path: Path) -> None:
         array = pack_output(material, output, preset)
