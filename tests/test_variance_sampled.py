@@ -259,3 +259,17 @@ def test_export_keep_variance_widens_a_sampled_lobe_when_downsizing(tmp_path: Pa
     # Lanczos-3 over the checkerboard leaves the midpoint up to its ripple
     err = np.abs(_cdf(kept) - _beckmann_cdf(math.sqrt(0.2**2 + HAND_TRACE))).max()
     assert err < 3e-3, err
+
+
+def test_a_filter_layer_widens_a_sampled_lobe_through_a_project(tmp_path: Path) -> None:
+    # the layer selects only the normal; keep_variance writes the distribution too
+    normal = _checker(_tilted(*TILT_A), _tilted(*TILT_B))
+    _write_set(tmp_path / "in", normal, d_from_beckmann(0.2))
+    project = tmp_path / "p.matshop"
+    assert main(["new", str(project), "--from", str(tmp_path / "in")]) == 0
+    layer = ["layer", "add", str(project), "filter", "--op", "blur", "sigma_px=4"]
+    assert main([*layer, "keep_variance=true", "--params", "normal"]) == 0
+    assert main(["flatten", str(project), str(tmp_path / "out")]) == 0
+    got, _ = read_image(tmp_path / "out" / "v_distribution.exr")
+    err = np.abs(_cdf(got) - _beckmann_cdf(math.sqrt(0.2**2 + HAND_TRACE))).max()
+    assert err < 2e-3, err

@@ -17,9 +17,10 @@ degrees of freedom). A bin's mass is uniform in ``sin^2 theta`` (the piecewise-c
 reading of ``d``), so it is carried by :data:`SUB_RINGS` rings at the midpoints of equal
 ``sin^2`` steps; the mass each lands in every bin is an ``N x N`` matrix ``K(v)``. These
 are built on a geometric grid of ``v`` (:data:`GRID_STEP`, cached); a texel between two
-grid values mixes their two results linearly in ``v`` (below the first grid value the
-mix is with the identity: widening is linear in ``v`` for small ``v``). Nothing leaves
-the hemisphere: ``theta < pi/2`` covers every slope.
+grid values mixes their two results linearly in ``v`` (below the first grid value, with
+the identity). Measured against the exact ``K(v)`` in between: at most 1.7e-3 in CDF,
+3.1e-3 below the grid on a lobe 1.6 bins wide (docs/variance.md). Nothing leaves the
+hemisphere: ``theta < pi/2`` covers every slope.
 """
 
 from __future__ import annotations
