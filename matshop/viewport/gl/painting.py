@@ -27,6 +27,14 @@ Symmetry in object space: with a :class:`~.mirror.MeshMirror`, every dab
 also paints its image across the mirror plane (the surface point nearest to
 its reflection, in that point's own UV chart and texel size), into the same
 stroke buffer: one stroke, one undo step, as the 2D canvas's mirror images.
+
+With a brush tip the dab is the tip laid in the tangent plane instead of the
+ball (:mod:`.surface_tip`), shaped by the brush's dynamics as on the canvas:
+fixed / follow / random rotation and angle jitter in texel space (follow
+takes the stroke's step on the surface), size jitter, and scatter along /
+across the step in the tangent plane. The first dab of a run has no step
+yet: follow and scatter take heading 0 (texel +x) there. A mirror image is
+the same dab reflected (its tip frame is the reflected frame).
 """
 
 from __future__ import annotations
@@ -41,6 +49,7 @@ from ...paint.painter import StrokeSession
 from .mirror import MeshMirror
 from .picking import SurfaceHit
 from .surface_map import SurfaceMap
+from .surface_tip import heading, tip_alpha, tip_frame, tip_reach
 
 
 def falloff(distance: np.ndarray, radius: float, hardness: float) -> np.ndarray:
@@ -82,7 +91,7 @@ class SurfaceStroke(StrokeSession):
             last = self._last
             self._last = (hit, pressure)
             if last is None:
-                self.stamp(hit, pressure)
+                self.stamp(hit, pressure, None)
                 self._to_next = brush.step_at(pressure)
                 placed += 1
                 continue
@@ -100,7 +109,7 @@ class SurfaceStroke(StrokeSession):
                     normal=normal / max(np.linalg.norm(normal), 1e-12),
                     uv=hit.uv if t > 0.5 else prev.uv,
                 )
-                self.stamp(point, p)
+                self.stamp(point, p, hit.position - prev.position)
                 placed += 1
                 self._to_next = brush.step_at(p)
             self._to_next -= length - walked
@@ -110,12 +119,48 @@ class SurfaceStroke(StrokeSession):
         """The cursor left the surface: the next point starts a new run of dabs."""
         self._last = None
 
-    def stamp(self, hit: SurfaceHit, pressure: float) -> None:
-        """One dab at ``hit`` and, with a mirror, its image across the plane."""
-        self._ball(hit, pressure)
-        if self.mirror is not None:
-            self._ball(self.mirror.image(hit), pressure)
+    def stamp(self, hit: SurfaceHit, pressure: float, step: np.ndarray | None = None) -> None:
+        """One dab at ``hit`` and, with a mirror, its image across the plane.
+
+        ``step``: the stroke's world step into this dab (for follow and scatter).
+        """
+        if self.brush.tip is not None:
+            self._stamp_tip(hit, pressure, step)
+        else:
+            self._ball(hit, pressure)
+            if self.mirror is not None:
+                self._ball(self.mirror.image(hit), pressure)
         self.dabs += 1
+
+    def _stamp_tip(self, hit: SurfaceHit, pressure: float, step: np.ndarray | None) -> None:
+        frame = tip_frame(self.surface, hit)
+        direction = None if step is None else heading(step, frame)
+        placed = self._shaper.place(0.0, 0.0, self.brush.radius_at(pressure), direction)
+        self._tip(hit, frame, placed, pressure)
+        if self.mirror is not None:
+            image = self.mirror.image(hit)
+            plane = self.mirror.plane
+            t, b = (plane.reflect_vector(v) for v in frame)
+            self._tip(image, _in_plane(t, b, image.normal), placed, pressure)
+
+    def _tip(self, hit: SurfaceHit, frame, placed, pressure: float) -> None:
+        """The tip dab ``placed`` (offset, radius, angle in texels) in ``frame`` at ``hit``."""
+        texel = self.surface.texel_world_at(hit.uv)
+        t, b = frame
+        centre = hit.position + (placed.x * t + placed.y * b) * texel
+        x, y = hit.texel(self.doc.width, self.doc.height)
+        sub = (x - np.floor(x) + placed.x % 1.0, y - np.floor(y) + placed.y % 1.0)
+        reach = tip_reach(self.brush, placed.radius_px) * texel
+        flow = np.float32(self.brush.flow_at(pressure))
+        for key, (points, inside) in sorted(
+            self.surface.ball_points(centre, reach, hit.normal).items()
+        ):
+            d = (points - centre.astype(np.float32)) / np.float32(texel)
+            offsets = np.stack([d @ t.astype(np.float32), d @ b.astype(np.float32)], axis=-1)
+            alpha = np.where(
+                inside, tip_alpha(self.brush, offsets, sub, placed.radius_px, placed.angle_deg), 0
+            )
+            self._stamp_tile(key, alpha, flow, pressure)
 
     def _ball(self, hit: SurfaceHit, pressure: float) -> None:
         """A ball of the brush's radius (in texels at ``hit``) around ``hit``."""
@@ -128,19 +173,32 @@ class SurfaceStroke(StrokeSession):
             self.surface.ball(hit.position, reach, hit.normal).items()
         ):
             alpha = np.where(inside, falloff(distance / texel, radius, brush.hardness), 0.0)
-            rows = np.nonzero(alpha.any(axis=1))[0]
-            cols = np.nonzero(alpha.any(axis=0))[0]
-            if rows.size == 0:
-                continue
-            tile = self.doc.layout.tile_rect(key)
-            rect = Rect(
-                tile.x0 + int(cols[0]),
-                tile.y0 + int(rows[0]),
-                tile.x0 + int(cols[-1]) + 1,
-                tile.y0 + int(rows[-1]) + 1,
-            )
-            block = alpha[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
-            self.stamp_alpha(rect, flow * block.astype(np.float32), brush.opacity_at(pressure))
+            self._stamp_tile(key, alpha, flow, pressure)
+
+    def _stamp_tile(self, key, alpha: np.ndarray, flow: np.float32, pressure: float) -> None:
+        """Add a dab's ``alpha`` over tile ``key`` (cropped to its nonzero box)."""
+        rows = np.nonzero(alpha.any(axis=1))[0]
+        cols = np.nonzero(alpha.any(axis=0))[0]
+        if rows.size == 0:
+            return
+        tile = self.doc.layout.tile_rect(key)
+        rect = Rect(
+            tile.x0 + int(cols[0]),
+            tile.y0 + int(rows[0]),
+            tile.x0 + int(cols[-1]) + 1,
+            tile.y0 + int(rows[-1]) + 1,
+        )
+        block = alpha[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
+        self.stamp_alpha(rect, flow * block.astype(np.float32), self.brush.opacity_at(pressure))
+
+
+def _in_plane(t: np.ndarray, b: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``t``, ``b`` made an orthonormal pair in the plane across ``normal``."""
+    n = np.asarray(normal, np.float64)
+    t = t - (t @ n) * n
+    t = t / max(np.linalg.norm(t), 1e-12)
+    b = b - (b @ n) * n - (b @ t) * t
+    return t, b / max(np.linalg.norm(b), 1e-12)
 
 
 class ViewportPainter:

@@ -191,6 +191,33 @@ class SurfaceMap:
         values = [lay.texel_world[lay.valid] for lay in self.layers if lay.valid.any()]
         return float(np.median(np.concatenate(values))) if values else 1.0
 
+    def texel_axes_at(self, uv: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """World steps of one texel along texel x and y (y down) at ``uv``, or None.
+
+        Central differences of the baked points (one-sided at an island's edge);
+        None where the neighbours are not baked (the texel is alone in its island).
+        """
+        cell = tuple(int(c) for c in np.floor(uv))
+        u, v = np.mod(uv, 1.0)
+        col = min(int(u * self.width), self.width - 1)
+        row = min(int((1.0 - v) * self.height), self.height - 1)
+        layers = [lay for lay in self.layers if lay.cell == cell] or self.layers
+        for layer in layers:
+            if not layer.valid[row, col]:
+                continue
+            steps = []
+            for dr, dc in ((0, 1), (1, 0)):
+                ahead = (min(row + dr, self.height - 1), min(col + dc, self.width - 1))
+                behind = (max(row - dr, 0), max(col - dc, 0))
+                ahead = ahead if layer.valid[ahead] else (row, col)
+                behind = behind if layer.valid[behind] else (row, col)
+                span = (ahead[0] - behind[0]) + (ahead[1] - behind[1])
+                if span == 0:
+                    return None
+                steps.append((layer.position[ahead] - layer.position[behind]) / span)
+            return steps[0].astype(np.float64), steps[1].astype(np.float64)
+        return None
+
     def ball(
         self, centre: np.ndarray, radius: float, normal: np.ndarray | None = None
     ) -> dict[TileKey, tuple[np.ndarray, np.ndarray]]:
@@ -201,7 +228,18 @@ class SurfaceMap:
         point in the ball (facing the same side as ``normal`` when given: a thin
         shell's far side is not painted through).
         """
-        out: dict[TileKey, tuple[np.ndarray, np.ndarray]] = {}
+        c = np.asarray(centre, dtype=np.float32)
+        out = {}
+        for key, (points, inside) in self.ball_points(centre, radius, normal).items():
+            out[key] = (np.where(inside, np.linalg.norm(points - c, axis=-1), np.inf), inside)
+        return out
+
+    def ball_points(
+        self, centre: np.ndarray, radius: float, normal: np.ndarray | None = None
+    ) -> dict[TileKey, tuple[np.ndarray, np.ndarray]]:
+        """As :meth:`ball`, with each texel's nearest surface point ``(th, tw, 3)``
+        instead of its distance (undefined where not inside)."""
+        out: dict[TileKey, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         c = np.asarray(centre, dtype=np.float32)
         for layer in self.layers:
             gap = np.maximum(np.maximum(layer.box_min - c, c - layer.box_max), 0.0)
@@ -217,8 +255,10 @@ class SurfaceMap:
                     inside &= facing
                 dist = np.where(inside, dist, np.inf)
                 if key in out:
-                    old_dist, old_inside = out[key]
+                    old_dist, old_inside, old_pos = out[key]
+                    nearer = dist < old_dist
+                    pos = np.where(nearer[..., None], pos, old_pos)
                     dist = np.minimum(dist, old_dist)
                     inside = inside | old_inside
-                out[key] = (dist, inside)
-        return {k: v for k, v in out.items() if v[1].any()}
+                out[key] = (dist, inside, pos)
+        return {k: (pos, inside) for k, (_, inside, pos) in out.items() if inside.any()}
