@@ -292,3 +292,42 @@ def test_keep_variance_in_the_3d_toolbar_reaches_the_mips(window, qtbot):
         assert action.isChecked() is on
         viewport.render_image(64)  # the next frame uploads the document again
         assert viewport.renderer.textures.widen == widen
+
+
+@needs_display
+def test_a_3d_stroke_takes_the_editors_tip_and_a_fresh_seed(window, qtbot):
+    """Wiring: the editor's tip, dynamics and next stroke seed reach the 3D painter (the
+    tip dab itself is checked against the tip's pixels in test_viewport_gl_tips.py)."""
+    from matshop.app.testing import drag
+    from matshop.viewport.gl.painting import SurfaceStroke
+
+    doc, viewport = open_sample(window, qtbot)
+    window.set_tool("brush")
+    window.brush_settings.set("radius_px", 12.0)
+    tips = window.brush_settings.tips
+    tips.set_kind("spots")
+    tips.set_rotation("random")
+    seed = tips.stroke_seed
+    x, y = viewport.width() / 2, viewport.height() / 2
+    hit = viewport._hit(x, y)
+    brush = window.host.brush()
+    assert brush.tip is not None and brush.dynamics.rotation == "random"
+    before = doc.flatten_edit()
+    drag(viewport, [(x, y)])  # a click: one dab
+    after = doc.flatten_edit()
+    assert tips.stroke_seed == seed + 1, "the 3D stroke drew the next stroke seed"
+    changed = np.any(after != before, axis=-1)
+    # the spots tip has holes: the dab is not the round disc's filled footprint
+    rows, cols = np.nonzero(changed)
+    box = changed[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1]
+    assert 0.1 < box.mean() < 0.7, f"{box.mean():.2f} of the dab's box painted"
+    # the same dab painted by the 3D painter directly from the editor's brush and that seed
+    layer_id = window.session.active_layer.id
+    window.undo()
+    assert np.array_equal(doc.flatten_edit(), before)
+    stroke = SurfaceStroke(
+        doc, layer_id, brush, viewport.surface_map(), seed=seed, swatch=window.host.swatch()
+    )
+    stroke.add_hits([(hit, 1.0)])
+    stroke.end()
+    assert np.array_equal(doc.flatten_edit(), after)

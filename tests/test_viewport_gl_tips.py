@@ -157,3 +157,46 @@ def test_random_rotation_and_size_jitter_follow_the_stroke_seed(plane_view, qtbo
     assert painted.max() > 0.5 and expected.max() > 0.5
     print(f"random: radius {placed.radius_px:.2f} angle {placed.angle_deg:.1f}: max err {err:.2e}")
     assert err < 2e-3
+
+
+def _drag(qtbot, widget, points) -> None:
+    qtbot.mousePress(widget, Qt.MouseButton.LeftButton, pos=QPoint(*points[0]))
+    for p in points[1:]:
+        qtbot.mouseMove(widget, QPoint(*p))
+    qtbot.mouseRelease(widget, Qt.MouseButton.LeftButton, pos=QPoint(*points[-1]))
+
+
+STROKE = [(60, 128), (100, 128), (140, 128), (196, 128)]
+
+
+@pytest.mark.parametrize("tip", [None, TIP], ids=["round", "tip"])
+def test_a_stencil_on_the_3d_view_masks_strokes_in_screen_space(plane_view, qtbot, tip):
+    from matshop.paint.stencil import Stencil
+
+    widget, doc, layer, history = plane_view
+    widget.set_brush(layer.id, Brush(radius_px=10.0, spacing=0.1, tip=tip), RED, history)
+    _drag(qtbot, widget, STROKE)
+    plain = _alpha(layer)
+    assert plain.max() > 0.5
+    history.undo()
+    # a black stencil over the whole widget: nothing is painted
+    widget.set_stencil(Stencil(np.zeros((8, 8), np.float32), (SIZE / 2, SIZE / 2), SIZE / 4))
+    _drag(qtbot, widget, STROKE)
+    assert not _alpha(layer).any()
+    # its left half shut, its right half open, split at widget x = 128
+    half = np.zeros((SIZE, SIZE), np.float32)  # one stencil pixel a widget pixel
+    half[:, SIZE // 2 :] = 1.0
+    widget.set_stencil(Stencil(half, (SIZE / 2, SIZE / 2), 1.0))
+    _drag(qtbot, widget, STROKE)
+    masked = _alpha(layer)
+    # texel columns on screen: the plane's texel x maps to widget x linearly (a facing plane)
+    cols = np.arange(doc.width) + 0.5
+    world_x = 2.0 * cols / doc.width - 1.0
+    screen_x = widget.camera.project(np.stack([world_x, 0 * world_x, 0 * world_x], -1), SIZE, SIZE)[
+        :, 0
+    ]
+    shut, open_ = screen_x < 127.5 - 0.5, screen_x > 128.5 + 0.5  # a pixel's blend at the edge
+    print(f"{np.count_nonzero(plain)} texels plain; masked {np.count_nonzero(masked)}")
+    assert not masked[:, shut].any()
+    np.testing.assert_allclose(masked[:, open_], plain[:, open_], atol=1e-6)
+    assert masked[:, open_].max() > 0.5

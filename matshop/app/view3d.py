@@ -457,7 +457,13 @@ class View3DDock(QDockWidget):
             return False
         options = self._stroke_options(name)
         if options is not None:
-            viewport._brush = {"brush": host.brush(), "history": None, **options}
+            # a fresh seed a stroke, as on the canvas (random tip angles, jitter, scatter)
+            viewport._brush = {
+                "brush": host.brush(),
+                "history": None,
+                "seed": host.stroke_seed(),
+                **options,
+            }
         return False
 
     def _stroke_options(self, tool: str) -> dict | None:

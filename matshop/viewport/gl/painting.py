@@ -35,6 +35,10 @@ takes the stroke's step on the surface), size jitter, and scatter along /
 across the step in the tangent plane. The first dab of a run has no step
 yet: follow and scatter take heading 0 (texel +x) there. A mirror image is
 the same dab reflected (its tip frame is the reflected frame).
+
+A stencil on the 3D view (:class:`.screen_stencil.ScreenStencil`) masks each
+dab, round or tip, and each mirror image, at the screen point where its
+texels' surface points show.
 """
 
 from __future__ import annotations
@@ -48,6 +52,7 @@ from ...paint.brush import Brush
 from ...paint.painter import StrokeSession
 from .mirror import MeshMirror
 from .picking import SurfaceHit
+from .screen_stencil import ScreenStencil
 from .surface_map import SurfaceMap
 from .surface_tip import heading, tip_alpha, tip_frame, tip_reach
 
@@ -75,11 +80,13 @@ class SurfaceStroke(StrokeSession):
         surface: SurfaceMap,
         *,
         mirror: MeshMirror | None = None,
+        screen_stencil: ScreenStencil | None = None,
         **options,
     ) -> None:
         super().__init__(doc, layer_id, brush, **options)
         self.surface = surface
         self.mirror = mirror
+        self.screen_stencil = screen_stencil
         self._last: tuple[SurfaceHit, float] | None = None
         self._to_next = 0.0  # texels left to walk before the next dab
 
@@ -160,7 +167,7 @@ class SurfaceStroke(StrokeSession):
             alpha = np.where(
                 inside, tip_alpha(self.brush, offsets, sub, placed.radius_px, placed.angle_deg), 0
             )
-            self._stamp_tile(key, alpha, flow, pressure)
+            self._stamp_tile(key, alpha, points, flow, pressure)
 
     def _ball(self, hit: SurfaceHit, pressure: float) -> None:
         """A ball of the brush's radius (in texels at ``hit``) around ``hit``."""
@@ -169,18 +176,27 @@ class SurfaceStroke(StrokeSession):
         texel = self.surface.texel_world_at(hit.uv)
         reach = (radius + 0.5) * texel
         flow = np.float32(brush.flow_at(pressure))
-        for key, (distance, inside) in sorted(
-            self.surface.ball(hit.position, reach, hit.normal).items()
+        centre = np.asarray(hit.position, np.float32)
+        for key, (points, inside) in sorted(
+            self.surface.ball_points(hit.position, reach, hit.normal).items()
         ):
+            distance = np.linalg.norm(points - centre, axis=-1)
             alpha = np.where(inside, falloff(distance / texel, radius, brush.hardness), 0.0)
-            self._stamp_tile(key, alpha, flow, pressure)
+            self._stamp_tile(key, alpha, points, flow, pressure)
 
-    def _stamp_tile(self, key, alpha: np.ndarray, flow: np.float32, pressure: float) -> None:
-        """Add a dab's ``alpha`` over tile ``key`` (cropped to its nonzero box)."""
+    def _stamp_tile(
+        self, key, alpha: np.ndarray, points: np.ndarray, flow: np.float32, pressure: float
+    ) -> None:
+        """Add a dab's ``alpha`` over tile ``key`` (cropped to its nonzero box), through
+        the screen stencil at the texels' surface ``points``."""
         rows = np.nonzero(alpha.any(axis=1))[0]
         cols = np.nonzero(alpha.any(axis=0))[0]
         if rows.size == 0:
             return
+        if self.screen_stencil is not None:
+            box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+            alpha = alpha.copy()
+            alpha[box] *= self.screen_stencil.at(points[box])
         tile = self.doc.layout.tile_rect(key)
         rect = Rect(
             tile.x0 + int(cols[0]),

@@ -15,6 +15,7 @@ Calls made before the widget has a context are remembered and applied in
 
 from __future__ import annotations
 
+import copy
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -25,6 +26,7 @@ from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
 from ...layers.events import DirtyRegion
 from ...paint.brush import Brush
+from ...paint.stencil import Stencil
 from ...paint.swatch import Swatch
 from ...render.environment import Environment
 from .camera import OrbitCamera
@@ -34,6 +36,7 @@ from .mirror import MeshMirror, MirrorPlane
 from .painting import ViewportPainter
 from .picking import PickBuffer, SurfaceHit
 from .renderer import Lighting, MaterialRenderer
+from .screen_stencil import ScreenStencil
 from .surface_map import SurfaceMap
 
 ORBIT_DEGREES_PER_PIXEL = 0.4
@@ -62,6 +65,7 @@ class MaterialViewport(QOpenGLWidget):
         self._brush: dict | None = None
         self._mirror_plane: MirrorPlane | None = None
         self._mirror: MeshMirror | None = None
+        self._stencil: Stencil | None = None
         self._drag: tuple[Qt.MouseButton, float, float] | None = None
         self.painter = ViewportPainter(self._hit, self.surface_map, self._stroke_options)
         self.setMouseTracking(False)
@@ -242,10 +246,20 @@ class MaterialViewport(QOpenGLWidget):
                 self._surface = SurfaceMap(self._mesh, self.doc.layout, uv_scale=self._uv_scale)
         return self._surface
 
+    def set_stencil(self, stencil: Stencil | None) -> None:
+        """Mask strokes by ``stencil`` placed in widget pixels (fixed on the screen; None: off)."""
+        self._stencil = stencil
+
     def _stroke_options(self) -> dict:
         if self._brush is None or self.doc is None:
             raise RuntimeError("no brush or document: call set_document and set_brush first")
-        return {"doc": self.doc, "mirror": self.mesh_mirror(), **self._brush}
+        options = {"doc": self.doc, "mirror": self.mesh_mirror(), **self._brush}
+        if self._stencil is not None:
+            camera, size = copy.deepcopy(self.camera), (self.width(), self.height())
+            options["screen_stencil"] = ScreenStencil(
+                self._stencil, lambda points: camera.project(points, *size)
+            )
+        return options
 
     # -- mouse -------------------------------------------------------------
 
