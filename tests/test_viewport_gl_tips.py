@@ -200,3 +200,20 @@ def test_a_stencil_on_the_3d_view_masks_strokes_in_screen_space(plane_view, qtbo
     assert not masked[:, shut].any()
     np.testing.assert_allclose(masked[:, open_], plain[:, open_], atol=1e-6)
     assert masked[:, open_].max() > 0.5
+
+
+def test_a_mirrored_3d_tip_dab_is_the_dab_reflected(plane_view, qtbot):
+    from matshop.viewport.gl.mirror import MirrorPlane
+
+    widget, doc, layer, history = plane_view
+    brush = Brush(radius_px=14.0, tip=TIP, dynamics=Dynamics(angle_deg=30.0))
+    widget.set_brush(layer.id, brush, RED, history)
+    widget.set_mirror(MirrorPlane("x"))  # world x = 0: texel x -> width - x on this plane
+    x, y = _click_texel(widget, doc, qtbot, 90, 120)
+    painted = _alpha(layer)
+    alone = _expected_dab(painted.shape, x, y, 14.0, 30.0)
+    expected = np.maximum(alone, np.flip(alone, axis=1))  # the two dabs do not overlap
+    err = np.abs(painted - expected).max()
+    print(f"mirrored tip dab: max |3D - (dab + its flip)| {err:.2e}")
+    assert not np.any((alone > 0) & (np.flip(alone, axis=1) > 0))
+    assert err < 2e-3

@@ -155,8 +155,6 @@ class SurfaceStroke(StrokeSession):
         texel = self.surface.texel_world_at(hit.uv)
         t, b = frame
         centre = hit.position + (placed.x * t + placed.y * b) * texel
-        x, y = hit.texel(self.doc.width, self.doc.height)
-        sub = (x - np.floor(x) + placed.x % 1.0, y - np.floor(y) + placed.y % 1.0)
         reach = tip_reach(self.brush, placed.radius_px) * texel
         flow = np.float32(self.brush.flow_at(pressure))
         for key, (points, inside) in sorted(
@@ -164,9 +162,7 @@ class SurfaceStroke(StrokeSession):
         ):
             d = (points - centre.astype(np.float32)) / np.float32(texel)
             offsets = np.stack([d @ t.astype(np.float32), d @ b.astype(np.float32)], axis=-1)
-            alpha = np.where(
-                inside, tip_alpha(self.brush, offsets, sub, placed.radius_px, placed.angle_deg), 0
-            )
+            alpha = tip_alpha(self.brush, offsets, inside, placed.radius_px, placed.angle_deg)
             self._stamp_tile(key, alpha, points, flow, pressure)
 
     def _ball(self, hit: SurfaceHit, pressure: float) -> None:

@@ -10,9 +10,9 @@ so the dab is the 2D tip dab; on a curved surface the tip wraps on it like
 a decal, across seams as the round 3D dab does.
 
 The values come from :meth:`matshop.paint.brush.Brush.footprint` (the 2D
-tip dab, centred at the dab's sub-texel position) read bilinearly at each
-offset: exact at texel-centre offsets, the tip's own sampling and pyramid
-level everywhere.
+tip dab, on the lattice of the texels' offsets) read bilinearly at each
+offset: exact where the offsets are that lattice, the tip's own sampling and
+pyramid level everywhere.
 """
 
 from __future__ import annotations
@@ -53,25 +53,27 @@ def heading(step_world: np.ndarray, frame: tuple[np.ndarray, np.ndarray]) -> flo
 
 
 def tip_alpha(
-    brush: Brush,
-    offsets: np.ndarray,
-    sub_texel: tuple[float, float],
-    radius_px: float,
-    angle_deg: float,
+    brush: Brush, offsets: np.ndarray, inside: np.ndarray, radius_px: float, angle_deg: float
 ) -> np.ndarray:
-    """The tip dab's alpha at texel ``offsets`` ``(..., 2)`` (x, y) from its centre.
+    """The tip dab's alpha at texel ``offsets`` ``(..., 2)`` (x, y) from its centre, 0 where
+    not ``inside``.
 
-    ``sub_texel``: the centre's position inside its texel (so texels whose offsets
-    are whole steps from it read the 2D dab's own samples).
+    The 2D dab is sampled on the lattice through an inside texel's offset, so
+    where the frame runs along the texel grid (flat, uniformly mapped; turned by
+    quarter turns or mirrored) every texel reads one of the 2D dab's own samples.
     """
-    fx, fy = sub_texel
+    if not inside.any():
+        return np.zeros(inside.shape, np.float32)
+    first = offsets[inside][0]
+    fx, fy = (0.5 - float(first[0])) % 1.0, (0.5 - float(first[1])) % 1.0
     x0, y0, footprint = brush.footprint(fx, fy, radius_px, angle_deg)
     # footprint[i, j] is the dab at texel centre (x0 + j + 1/2, y0 + i + 1/2)
     cols = offsets[..., 0] + fx - x0 - 0.5
     rows = offsets[..., 1] + fy - y0 - 0.5
-    return ndimage.map_coordinates(
+    alpha = ndimage.map_coordinates(
         footprint, [rows, cols], order=1, mode="constant", cval=0.0, prefilter=False
-    ).astype(np.float32)
+    )
+    return np.where(inside, alpha, 0.0).astype(np.float32)
 
 
 def tip_reach(brush: Brush, radius_px: float) -> float:
