@@ -87,8 +87,8 @@ _FLAGS = {"cache": True, "fastmath": {"contract", "arcp"}, "nogil": True, "error
 
 
 @njit(**_FLAGS)
-def _pieces_row(src, lo, inv_span, span, breaks, coeffs, out):
-    """One row: the pieces read into locals first, so the value loop is selects only."""
+def _pieces_in_locals(breaks, coeffs):
+    """The breaks and cubic coefficients as tuples, so a row loop holds them in registers."""
     b = (
         breaks[0], breaks[1], breaks[2], breaks[3],
         breaks[4], breaks[5], breaks[6], breaks[7],
@@ -103,6 +103,13 @@ def _pieces_row(src, lo, inv_span, span, breaks, coeffs, out):
         (coeffs[6, 0], coeffs[6, 1], coeffs[6, 2], coeffs[6, 3]),
         (coeffs[7, 0], coeffs[7, 1], coeffs[7, 2], coeffs[7, 3]),
     )
+    return b, k
+
+
+@njit(**_FLAGS)
+def _pieces_row(src, lo, inv_span, span, breaks, coeffs, out):
+    """One row: the pieces read into locals first, so the value loop is selects only."""
+    b, k = _pieces_in_locals(breaks, coeffs)
     # a curve of three points is four pieces: half the selects
     if breaks[4] != breaks[4]:
         for i in range(src.shape[0]):
@@ -123,20 +130,7 @@ def _vectors_row(src, vectors, bounds, quadrature, ranges, breaks, coeffs, out):
     (``ranges[g]`` = lo, 1 / span, span) and the vector is scaled by that
     over ``m`` (a zero vector stays zero, a magnitude never turns negative).
     """
-    b = (
-        breaks[0], breaks[1], breaks[2], breaks[3],
-        breaks[4], breaks[5], breaks[6], breaks[7],
-    )  # fmt: skip
-    k = (
-        (coeffs[0, 0], coeffs[0, 1], coeffs[0, 2], coeffs[0, 3]),
-        (coeffs[1, 0], coeffs[1, 1], coeffs[1, 2], coeffs[1, 3]),
-        (coeffs[2, 0], coeffs[2, 1], coeffs[2, 2], coeffs[2, 3]),
-        (coeffs[3, 0], coeffs[3, 1], coeffs[3, 2], coeffs[3, 3]),
-        (coeffs[4, 0], coeffs[4, 1], coeffs[4, 2], coeffs[4, 3]),
-        (coeffs[5, 0], coeffs[5, 1], coeffs[5, 2], coeffs[5, 3]),
-        (coeffs[6, 0], coeffs[6, 1], coeffs[6, 2], coeffs[6, 3]),
-        (coeffs[7, 0], coeffs[7, 1], coeffs[7, 2], coeffs[7, 3]),
-    )
+    b, k = _pieces_in_locals(breaks, coeffs)
     zero = np.float32(0.0)
     q32 = quadrature.astype(np.float32)
     gain = np.empty(src.shape[0], dtype=np.float32)
