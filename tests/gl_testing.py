@@ -23,3 +23,25 @@ def release(widget) -> None:
     late, and a 512^2 sampled lobe holds about 1 GB until then."""
     widget.set_document(None)
     widget.render_image(8)  # the frame applies it: the textures are deleted
+
+
+def swatch_rows(shape: tuple[int, int], step: int):
+    """Every ``step``-th image row of the lit display's swatch (tilted 30 degrees), shaded
+    by ``render()`` exactly as in a whole render (same pixel footprint and prefilter level)."""
+    import numpy as np
+
+    from matshop.render import scenes
+
+    whole = scenes.swatch(shape, tilt_deg=30.0)
+    keep = np.zeros(shape, dtype=bool)
+    keep[::step] = True
+    flat = keep.reshape(-1)
+    return scenes.GBuffer(
+        mask=keep,
+        uv=whole.uv[flat],
+        normal=whole.normal[flat],
+        tangent=whole.tangent[flat],
+        bitangent=whole.bitangent[flat],
+        view=whole.view[flat],
+        uv_per_pixel=whole.uv_per_pixel,
+    )

@@ -49,6 +49,8 @@ if no_display_reason():
     pytest.skip(no_display_reason(), allow_module_level=True)
 install_default_format()
 
+from gl_testing import swatch_rows  # noqa: E402
+
 from matshop.app.testing import Heartbeat, shown_window, spin  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -338,24 +340,11 @@ def reference_rows(material, light, environment, stops: float, step: int) -> np.
     """``render()`` of every ``step``-th row of the lit display's swatch (its settings written
     out: tilted 30 degrees, one light of irradiance 3, a quarter of the environment, 4
     samples), as 8-bit codes at the exposure."""
-    from matshop.render import scenes
     from matshop.render.integrator import DirectionalLight
     from matshop.render.render import render
 
     shape = material.size
-    whole = scenes.swatch(shape, tilt_deg=30.0)
-    keep = np.zeros(shape, dtype=bool)
-    keep[::step] = True
-    flat = keep.reshape(-1)
-    rows = scenes.GBuffer(
-        mask=keep,
-        uv=whole.uv[flat],
-        normal=whole.normal[flat],
-        tangent=whole.tangent[flat],
-        bitangent=whole.bitangent[flat],
-        view=whole.view[flat],
-        uv_per_pixel=whole.uv_per_pixel,
-    )
+    rows = swatch_rows(shape, step)
     image = render(
         material,
         scene=rows,

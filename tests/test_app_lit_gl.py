@@ -26,11 +26,11 @@ pytest.importorskip("PySide6")
 pytest.importorskip("pytestqt")
 pytest.importorskip("OpenGL")
 
+from gl_testing import swatch_rows  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 
 from matshop.app.lit_gl import COARSE_BUDGETS_S  # noqa: E402
 from matshop.app.testing import Heartbeat, drag, shown_window  # noqa: E402
-from matshop.render import scenes  # noqa: E402
 from matshop.render.integrator import DirectionalLight  # noqa: E402
 from matshop.render.render import render  # noqa: E402
 from matshop.viewport.gl.context import install_default_format, no_display_reason  # noqa: E402
@@ -61,19 +61,7 @@ def reference_rows(material, light, shape: tuple[int, int], step: int) -> np.nda
     The rows are shaded exactly as in a whole render (same pixel footprint, same
     prefilter level); the others are left out to keep a 2K reference affordable.
     """
-    whole = scenes.swatch(shape, tilt_deg=30.0)
-    keep = np.zeros(shape, dtype=bool)
-    keep[::step] = True
-    flat = keep.reshape(-1)
-    rows = scenes.GBuffer(
-        mask=keep,
-        uv=whole.uv[flat],
-        normal=whole.normal[flat],
-        tangent=whole.tangent[flat],
-        bitangent=whole.bitangent[flat],
-        view=whole.view[flat],
-        uv_per_pixel=whole.uv_per_pixel,
-    )
+    rows = swatch_rows(shape, step)
     image = render(
         material,
         scene=rows,
