@@ -8,6 +8,12 @@ import sys
 
 import pytest
 
+# Qt widgets need a display; without one (a plain `pytest` outside Xvfb) the widget tests
+# still run offscreen, and the GL tests, which offscreen cannot serve, skip themselves.
+# Set here, before any test module imports PySide6.
+if not os.environ.get("DISPLAY"):
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+
 _exit_status = 0
 
 # PySide6 6.12 on CPython 3.11: every QApplication.processEvents() and QTest.qWait() call

@@ -14,14 +14,10 @@
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import gc
 import json
 import math
+import os
 import time
 from pathlib import Path
 

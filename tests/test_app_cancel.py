@@ -10,11 +10,6 @@ own seams (``read_image``, ``fileset.write_one``) so the click lands mid-way on 
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import time
 from pathlib import Path
 

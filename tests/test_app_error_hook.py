@@ -3,11 +3,6 @@ slot raises, the status bar read back (truth: the error's own one-line text)."""
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import sys
 from pathlib import Path
 

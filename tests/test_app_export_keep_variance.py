@@ -7,11 +7,6 @@ from the same texture folder, compared byte for byte.
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import time
 from pathlib import Path
 

@@ -5,10 +5,6 @@ run from scratch on the uncached flatten of the layers below (``flatten_referenc
 from __future__ import annotations
 
 import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import time
 from pathlib import Path
 

@@ -6,12 +6,8 @@ layer's mask, equal to the file's gray codes."""
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import math
+import os
 import warnings
 from pathlib import Path
 

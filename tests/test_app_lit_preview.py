@@ -7,11 +7,6 @@ reference-renderer fallback's progressive passes, and the cosine-law check with 
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 from pathlib import Path
 
 import numpy as np

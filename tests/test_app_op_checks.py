@@ -4,11 +4,6 @@ nothing, the same rule ``matshop layer add`` and the Python API follow."""
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 from pathlib import Path
 
 import pytest

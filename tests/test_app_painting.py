@@ -5,11 +5,6 @@ a dab lands where the pointer was at a known zoom and offset (within half a texe
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 from pathlib import Path
 
 import numpy as np

@@ -3,11 +3,6 @@ and a session on the real 2K chessboard set (skipped when the data is absent).""
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import time
 from pathlib import Path
 

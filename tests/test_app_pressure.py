@@ -6,12 +6,8 @@ plot holds (not with matshop's curve table), the radius from the painted area.""
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import json
+import os
 from pathlib import Path
 
 import numpy as np

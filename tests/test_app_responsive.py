@@ -13,10 +13,6 @@ printed always.
 from __future__ import annotations
 
 import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import time
 from collections.abc import Callable
 from pathlib import Path

@@ -8,11 +8,6 @@ that undoes bit-identically, and the polygon (click) selection.
 from __future__ import annotations
 
 import math
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 from pathlib import Path
 
 import numpy as np

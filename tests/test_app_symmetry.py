@@ -6,10 +6,6 @@ without symmetry, and one undo removes both halves."""
 from __future__ import annotations
 
 import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 from pathlib import Path
 
 import numpy as np

@@ -9,11 +9,6 @@ the thread a finalizer runs on, read from the interpreter.
 
 from __future__ import annotations
 
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 import threading
 import time
 import weakref

@@ -9,11 +9,6 @@ byte-identical. `test_batch.py` holds batch to `apply` the same way.
 from __future__ import annotations
 
 import json
-import os
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-
 from pathlib import Path
 
 import numpy as np
