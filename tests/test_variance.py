@@ -218,59 +218,6 @@ def test_apply_cli_blur_keep_variance_on_files(tmp_path: Path) -> None:
     assert np.array_equal(read_image(color_file)[0], src)
 
 
-def test_export_keep_variance_checkerboard_downsized(tmp_path: Path) -> None:
-    normal = _checker(_tilted(*TILT_A), _tilted(*TILT_B), 64)
-    _write_set(tmp_path / "in", normal, 0.3, 64)
-    args = [str(tmp_path / "in"), "--preset", "raw", "--size", "8"]
-    assert main(["export", args[0], str(tmp_path / "kept"), *args[1:], "--keep-variance"]) == 0
-    assert main(["export", args[0], str(tmp_path / "plain"), *args[1:]]) == 0
-    kept, _ = read_image(next((tmp_path / "kept").glob("*roughness*")))
-    plain, _ = read_image(next((tmp_path / "plain").glob("*roughness*")))
-    assert kept.shape[:2] == (8, 8)
-    np.testing.assert_allclose(plain, 0.3, atol=1e-4)
-    # each small texel's 8x8 area holds the two tilts half and half: the hand value
-    # (up to the 16-bit normal codes)
-    np.testing.assert_allclose(kept, (0.3**4 + HAND_TRACE) ** 0.25, rtol=2e-4)
-
-
-def test_export_keep_variance_widens_only_the_texels_whose_area_holds_the_tilt(
-    tmp_path: Path,
-) -> None:
-    # one groove column tilted 0.4 rad in a flat 64^2 field, reduced 4x: the small
-    # texels whose 4-texel-wide area holds it see a quarter of their area tilted and
-    # lose p (1 - p) tan(0.4)^2 with p = 1/4; their neighbours, which Lanczos-3 reaches
-    # but whose own area is flat, lose nothing and keep the plain export's bits
-    size, groove = 64, 21  # column 21 lies in small column 5 (texels 20..23)
-    normal = np.broadcast_to(_tilted(0.0, 0.0), (size, size, 3)).copy()
-    normal[:, groove] = _tilted(0.4, 0.0)
-    _write_set(tmp_path / "in", normal, 0.3, size)
-    args = [str(tmp_path / "in"), "--preset", "raw", "--size", "16"]
-    assert main(["export", args[0], str(tmp_path / "kept"), *args[1:], "--keep-variance"]) == 0
-    assert main(["export", args[0], str(tmp_path / "plain"), *args[1:]]) == 0
-    kept, _ = read_image(next((tmp_path / "kept").glob("*roughness*")))
-    plain, _ = read_image(next((tmp_path / "plain").glob("*roughness*")))
-    others = np.ones(16, bool)
-    others[groove // 4] = False
-    assert np.array_equal(kept[:, others], plain[:, others])
-    lost = 0.25 * 0.75 * math.tan(0.4) ** 2
-    expected = (plain[:, ~others] ** 4 + lost) ** 0.25
-    np.testing.assert_allclose(kept[:, ~others], expected, rtol=2e-4)
-
-
-def test_area_weights_are_each_small_texels_share_of_its_own_extent() -> None:
-    from matshop.export.resize import area_matrix
-
-    # 10 -> 4: each small texel spans 2.5 input texels (by hand)
-    hand = np.zeros((4, 10))
-    hand[0, [0, 1, 2]] = [0.4, 0.4, 0.2]
-    hand[1, [2, 3, 4]] = [0.2, 0.4, 0.4]
-    hand[2, [5, 6, 7]] = [0.4, 0.4, 0.2]
-    hand[3, [7, 8, 9]] = [0.2, 0.4, 0.4]
-    np.testing.assert_allclose(area_matrix(10, 4).toarray(), hand, atol=1e-12)
-    # an integer factor is the block mean
-    np.testing.assert_allclose(area_matrix(8, 2).toarray(), np.kron(np.eye(2), np.full(4, 0.25)))
-
-
 def test_blur_handles_more_channels_than_opencv_takes() -> None:
     # a sampled lobe (128) beside colours: 134 channels; OpenCV 5 filters take 128
     rng = np.random.default_rng(5)

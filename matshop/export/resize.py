@@ -8,6 +8,11 @@ channels, which is matshop's point: a linear filter there means the right
 thing for every parameter (colors averaged in linear light, roughness in
 alpha = r^2, normals as rotations, sampled distributions as inverse CDFs),
 and ``from_edit`` clamps whatever the filter's negative lobes overshoot.
+
+With ``keep_variance`` a reduced texel stands for the micro-normals over its own
+area, as a LEAN or Toksvig mip does: its normal, its lobe and the tilt variance
+added to the lobe are all area means over that same footprint
+(:func:`footprint_shading`), and only the other channels keep Lanczos-3.
 """
 
 from __future__ import annotations
@@ -20,7 +25,7 @@ import scipy.sparse
 from ..errors import MatshopError
 from ..material import EditMaterial, Material
 from ..memory import require_memory
-from ..ops.variance import lost_slope_covariance, widen_lobes
+from ..ops.variance import lobe_parameters, lost_slope_covariance, widen_lobes
 
 _LOBES = 3
 
@@ -104,15 +109,34 @@ def resize_array(
     return np.ascontiguousarray(data, dtype=np.float32)
 
 
+def footprint_shading(edit: EditMaterial, data: np.ndarray, size_hw: tuple[int, int]) -> np.ndarray:
+    """``data`` (``edit`` resampled to ``size_hw``) with the normal and every lobe
+    parameter replaced by their area means over each small texel (:func:`area_matrix`);
+    ``edit`` has a normal.
+
+    The micro-normals of a small texel's area form one distribution: its mean normal,
+    its lobe and the spread :func:`resize_material` adds must describe the same set of
+    texels. Lanczos-3 reaches 3 small texels on each side with negative lobes, so next
+    to a groove it rings: tilts and widths that no texel of the footprint has
+    (docs/variance.md measures what each share buys).
+    """
+    out = data.copy()
+    for name in ("normal", *lobe_parameters(edit.schema)):
+        block = np.ascontiguousarray(edit.data[..., edit.schema.edit_slices[name]])
+        out[..., edit.schema.edit_slices[name]] = resize_array(block, size_hw, weights=area_matrix)
+    return out
+
+
 def resize_material(
     material: Material, size_hw: tuple[int, int], *, keep_variance: bool = False
 ) -> Material:
     """``material`` resampled to ``size_hw``, filtered in editing space.
 
-    ``keep_variance``: widen the lobe by the normal tilt variance a reduction
-    averages away (:mod:`matshop.ops.variance`), so the smaller material keeps
-    the larger one's look from afar: the slopes' covariance over each small
-    texel's area (:func:`area_matrix`). Only reductions lose variance.
+    ``keep_variance``: each small texel keeps the look of its own area from afar: the
+    normal and the lobe are averaged over that area (:func:`footprint_shading`) and the
+    lobe is widened by the slopes' covariance over it (:mod:`matshop.ops.variance`).
+    Only reductions lose variance; without the option (or without a normal map) every
+    channel is Lanczos-3.
     """
     if tuple(size_hw) == tuple(material.size):
         return material
@@ -127,13 +151,12 @@ def resize_material(
     data = resize_array(edit.data, size_hw)
     reduced = size_hw[0] < material.size[0] or size_hw[1] < material.size[1]
     if keep_variance and reduced and "normal" in material.maps:
-        normal = material.maps["normal"]
-        # the lost tilt is the spread of slopes over each small texel's own area: a
-        # variance needs non-negative weights (Lanczos' negative lobes are not a
-        # mixture), and Lanczos' reach of 3 texels on each side would widen
-        # neighbours whose own area has no tilt at all (docs/variance.md)
+        data = footprint_shading(edit, data, size_hw)
+        # the lost tilt is the slopes' spread over the same areas: a variance also needs
+        # non-negative weights (Lanczos' negative lobes are not a mixture)
         cov = lost_slope_covariance(
-            normal[..., :3], lambda a: resize_array(a, size_hw, weights=area_matrix)
+            material.maps["normal"][..., :3],
+            lambda a: resize_array(a, size_hw, weights=area_matrix),
         )
         frame = edit.schema["normal"].space.from_edit(
             np.ascontiguousarray(data[..., edit.schema.edit_slices["normal"]])
