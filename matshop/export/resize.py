@@ -6,7 +6,7 @@ downscale is properly low-passed, not aliased), applied with periodic
 wrap-around because texture sets tile. It runs on the material's *edit-space*
 channels, which is matshop's point: a linear filter there means the right
 thing for every parameter (colors averaged in linear light, roughness in
-alpha = r^2, normals as rotations, sampled distributions as inverse CDFs),
+its lobe coordinate, normals as rotations, sampled distributions as inverse CDFs),
 and ``from_edit`` clamps whatever the filter's negative lobes overshoot.
 
 With ``keep_variance`` a reduced texel stands for the micro-normals over its own
