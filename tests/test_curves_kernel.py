@@ -175,8 +175,33 @@ def test_percentiles_are_numpys() -> None:
 
 
 def test_the_sample_is_the_fixed_random_draw_of_texels() -> None:
+    """Channel by channel (planes), from a strided channel slice and a contiguous block."""
     edit = np.random.default_rng(4).random((600, 520, 5), dtype=np.float32)
-    block = edit[..., 1:4]  # a channel slice, as curves sees it
     index = np.sort(np.random.default_rng(0).integers(0, 600 * 520, MAX_SAMPLES))
     rows, cols = np.divmod(index, 520)
-    assert np.array_equal(_sample(block), block[rows, cols])
+    for block in (edit[..., 1:4], edit):  # a channel slice, as curves sees it
+        assert np.array_equal(_sample(block), block[rows, cols].T)
+    small = edit[:100, :90]  # fewer texels than the draw: all of them
+    assert np.array_equal(_sample(small), small.reshape(-1, 5).T)
+
+
+def test_ranges_are_the_percentiles_of_the_drawn_texels() -> None:
+    """Each group's range from ``np.percentile`` of its drawn values: per channel, and of
+    the magnitude for vectors (a frame, and the 128-channel distribution with its weights);
+    texels with a NaN or an infinity in a group are left out of that group only."""
+    edit = edit_array(700, 400)
+    edit[7, 9, 0] = np.nan
+    edit[8, 9, SCHEMA.edit_slices["normal"].start] = np.inf
+    selection = Selection(edit, schema=SCHEMA, params=None, mask=None, op="curves")
+    index = np.sort(np.random.default_rng(0).integers(0, 700 * 400, MAX_SAMPLES))
+    drawn = edit.reshape(-1, edit.shape[2])[index].astype(np.float64)
+    ranges = curve_ranges(edit, schema=SCHEMA)
+    for group, tone in zip(selection.groups, ranges, strict=True):
+        values = drawn[:, selection.channels[group.channels]]
+        if tone.vector:
+            values = np.sqrt((values**2 * group.quadrature).sum(axis=1, keepdims=True))
+        values = values[np.isfinite(values).all(axis=1)]
+        low, median, high = np.percentile(values, [0.5, 50.0, 99.5], axis=0)
+        reach = np.maximum(median - low, high - median)
+        np.testing.assert_allclose(tone.lo, median - reach, rtol=1e-6, atol=1e-7)
+        np.testing.assert_allclose(tone.span, 2.0 * reach, rtol=1e-6, atol=1e-7)

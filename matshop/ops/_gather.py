@@ -1,0 +1,38 @@
+"""The texels a tone range is measured on, gathered channel by channel.
+
+:mod:`.tone_range` reads a fixed random draw of texels (sorted flat indices)
+and then sorts each channel's values. numpy's ``np.take`` gives the texels
+interleaved, ``(n, k)``, so every channel's sort and the magnitudes of a
+frame then ran over strided columns (a third of the ranges' time on 10
+channels); this gather writes each channel as its own contiguous plane, on all
+threads (the draw touches most cache lines of the map: it is a read of the
+whole array, not of 2^18 texels).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+#: samples per parallel chunk: gathered whole into a small buffer, then written
+#: out plane by plane from cache (writing the planes directly, k scattered store
+#: streams, measured 1.6x slower at 10 channels)
+_CHUNK = 1024
+
+
+@njit(cache=True, parallel=True, nogil=True, error_model="numpy")
+def gather_planes(texels, index, planes):
+    """``planes[c, i] = texels[index[i], c]`` for ``texels`` (N, k) of any strides."""
+    count = index.shape[0]
+    channels = texels.shape[1]
+    for chunk in prange((count + _CHUNK - 1) // _CHUNK):
+        start = chunk * _CHUNK
+        stop = min(count, start + _CHUNK)
+        buffer = np.empty((_CHUNK, channels), dtype=planes.dtype)
+        for i in range(start, stop):
+            texel = np.uint64(index[i])  # unsigned: no wraparound fix-up
+            for c in range(channels):
+                buffer[i - start, c] = texels[texel, c]
+        for c in range(channels):
+            for i in range(start, stop):
+                planes[c, i] = buffer[i - start, c]
