@@ -42,9 +42,13 @@ def curve_lut(points: Sequence[tuple[float, float]], size: int = LUT_SIZE) -> np
     Outside the control points the curve continues with the end values'
     straight line through the nearest two points.
     """
+    return _curve_at(points, np.linspace(0.0, 1.0, size))
+
+
+def _curve_at(points: Sequence[tuple[float, float]], t: np.ndarray) -> np.ndarray:
+    """The curve of :func:`curve_lut` at ``t``, value by value (so the same bits)."""
     xs = np.array([p[0] for p in points], dtype=np.float64)
     ys = np.array([p[1] for p in points], dtype=np.float64)
-    t = np.linspace(0.0, 1.0, size)
     if len(xs) == 2:
         return (ys[0] + (t - xs[0]) * (ys[1] - ys[0]) / (xs[1] - xs[0])).astype(np.float64)
     from scipy.interpolate import PchipInterpolator  # here: scipy.interpolate takes 0.2 s to import
@@ -69,12 +73,13 @@ def levels_lut(
     return out_black + (out_white - out_black) * x ** (1.0 / gamma)
 
 
-def _end_slopes(lut: np.ndarray, tail: float) -> tuple[float, float]:
+def _end_slopes(lut: Callable[[], np.ndarray], tail: float) -> tuple[float, float]:
     """Slopes beyond [0, 1]: ``tail`` (remap="data") or the table's end segments (-1)."""
     if tail >= 0:
         return tail, tail
-    last = lut.size - 1
-    return float(lut[1] - lut[0]) * last, float(lut[-1] - lut[-2]) * last
+    table = lut()
+    last = table.size - 1
+    return float(table[1] - table[0]) * last, float(table[-1] - table[-2]) * last
 
 
 def curve_pieces(points: Sequence[tuple[float, float]], tail: float) -> Pieces | None:
@@ -88,20 +93,22 @@ def curve_pieces(points: Sequence[tuple[float, float]], tail: float) -> Pieces |
 
     xs = np.array([p[0] for p in points], dtype=np.float64)
     ys = np.array([p[1] for p in points], dtype=np.float64)
-    lut = curve_lut(points)
-    below, above = _end_slopes(lut, tail)
+    # the table's first and last entries, without the table (its 4096 points
+    # took a quarter of a small image's whole call)
+    at_0, at_1 = _curve_at(points, np.array([0.0, 1.0]))
+    below, above = _end_slopes(lambda: curve_lut(points), tail)
     first = (ys[1] - ys[0]) / (xs[1] - xs[0])
-    pieces: list[tuple[float, tuple[float, ...]]] = [(0.0, (lut[0], below))]
+    pieces: list[tuple[float, tuple[float, ...]]] = [(0.0, (at_0, below))]
     if len(xs) == 2:
-        pieces.append((0.0, (lut[0], first)))
+        pieces.append((0.0, (at_0, first)))
     else:
         if xs[0] > 0.0:
-            pieces.append((0.0, (lut[0], first)))
+            pieces.append((0.0, (at_0, first)))
         c = PchipInterpolator(xs, ys).c  # (4, pieces), highest power first
         pieces += [(xs[i], tuple(c[::-1, i])) for i in range(len(xs) - 1)]
         if xs[-1] < 1.0:
             pieces.append((xs[-1], (ys[-1], (ys[-1] - ys[-2]) / (xs[-1] - xs[-2]))))
-    pieces.append((1.0, (lut[-1], above)))
+    pieces.append((1.0, (at_1, above)))
     return Pieces.build(pieces)
 
 
@@ -111,8 +118,9 @@ def levels_pieces(
     """:func:`levels_lut` as straight pieces when ``gamma`` is 1 (None otherwise)."""
     if gamma != 1.0:
         return None
-    lut = levels_lut(in_black, in_white, gamma, out_black, out_white)
-    below, above = _end_slopes(lut, tail)
+    below, above = _end_slopes(
+        lambda: levels_lut(in_black, in_white, gamma, out_black, out_white), tail
+    )
     pieces: list[tuple[float, tuple[float, ...]]] = [(0.0, (out_black, below))]
     if in_black > 0.0:
         pieces.append((0.0, (out_black,)))
@@ -125,7 +133,7 @@ def levels_pieces(
 
 def apply_lut(
     edit: np.ndarray,
-    lut: np.ndarray,
+    lut: np.ndarray | Callable[[], np.ndarray],
     *,
     schema: Schema | None,
     params: Sequence[str] | str | None,
@@ -139,7 +147,8 @@ def apply_lut(
 
     ``pieces(tail)``, when given and not None, is the same curve as polynomial
     pieces (:mod:`._pieces`), evaluated exactly in a vectorised pass; else the
-    table ``lut`` is interpolated.
+    table ``lut`` (or what it returns, when a function: built only if needed)
+    is interpolated.
     """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op=op)
     block = selection.take(edit)
@@ -148,7 +157,7 @@ def apply_lut(
     curve = pieces(tail) if pieces is not None else None
     if curve is not None:
         return selection.put(edit, _apply_pieces(block, selection.groups, ranges, curve))
-    lut = np.ascontiguousarray(lut, dtype=np.float64)
+    lut = np.ascontiguousarray(lut() if callable(lut) else lut, dtype=np.float64)
     # every group in one pass; a vector's channels keep an unused identity line
     width = block.shape[2]
     ab = np.zeros((width, lut.size + 1, 2), dtype=np.float32)
@@ -250,7 +259,7 @@ def curves(
         return np.array(edit, dtype=np.float32, copy=True)
     return apply_lut(
         edit,
-        curve_lut(points),
+        lambda: curve_lut(points),
         schema=schema,
         params=params,
         mask=mask,
@@ -280,10 +289,9 @@ def levels(
     ``remap`` chooses the range (:mod:`.tone_range`).
     """
     check_input_points({"in_black": in_black, "in_white": in_white}, OpTarget())
-    lut = levels_lut(in_black, in_white, gamma, out_black, out_white)
     return apply_lut(
         edit,
-        lut,
+        lambda: levels_lut(in_black, in_white, gamma, out_black, out_white),
         schema=schema,
         params=params,
         mask=mask,
