@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..material import Schema
+from ._fresh import empty_touched
 from ._kernels import line_tables, lut_apply
 from ._pieces import Pieces, pieces_apply
 from .selection import Selection
@@ -171,7 +172,7 @@ def apply_lut(
         for c, lo, span in zip(group.channels, tone.lo, tone.span, strict=True):
             ab[c], to_pos[c], shift[c] = line_tables(lut, lo, span, tail)
     groups = [g for g, _ in vectors]
-    result = np.empty(block.shape, dtype=np.float32)
+    result = empty_touched(block.shape)
     lut_apply(
         block,
         ab,
@@ -203,7 +204,7 @@ def _apply_pieces(
             vector_ranges.append((tone.lo[0], 1.0 / tone.span[0], tone.span[0]))
         else:
             lo[group.channels], span[group.channels] = tone.lo, tone.span
-    result = np.empty(block.shape, dtype=np.float32)
+    result = empty_touched(block.shape)
     pieces_apply(
         np.ascontiguousarray(block),
         np.tile(lo.astype(np.float32), width),
