@@ -154,10 +154,16 @@ def _vectors_row(src, vectors, bounds, quadrature, ranges, breaks, coeffs, out):
                     v = src[col, vectors[i]]
                     sq += q32[i] * v * v
                 gain[col] = sq
-        for col in range(src.shape[0]):
-            m = np.sqrt(gain[col])
-            mapped = max(vlo + vspan * _evaluate((m - vlo) * vinv, b, k, MAX_PIECES), zero)
-            gain[col] = mapped / m if m > zero else zero
+        if breaks[4] != breaks[4]:  # four pieces: half the selects, as in _pieces_row
+            for col in range(src.shape[0]):
+                m = np.sqrt(gain[col])
+                mapped = max(vlo + vspan * _evaluate((m - vlo) * vinv, b, k, 4), zero)
+                gain[col] = mapped / m if m > zero else zero
+        else:
+            for col in range(src.shape[0]):
+                m = np.sqrt(gain[col])
+                mapped = max(vlo + vspan * _evaluate((m - vlo) * vinv, b, k, MAX_PIECES), zero)
+                gain[col] = mapped / m if m > zero else zero
         if frame:
             for col in range(src.shape[0]):
                 out[col, c0] = src[col, c0] * gain[col]
