@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..material import Schema
-from ._fresh import empty_touched
+from ._fresh import empty_touched_soon
 from ._kernels import line_tables, lut_apply
 from ._pieces import Pieces, pieces_apply
 from .selection import Selection
@@ -153,11 +153,14 @@ def apply_lut(
     """
     selection = Selection(edit, schema=schema, params=params, mask=mask, op=op)
     block = selection.take(edit)
+    fresh = empty_touched_soon(block.shape)  # its page faults overlap the ranges' reading
     ranges = tone_ranges(block, selection.groups, remap=remap, clip_percent=clip_percent)
     tail = tail_slope(remap)
     curve = pieces(tail) if pieces is not None else None
+    result = fresh.result()
     if curve is not None:
-        return selection.put(edit, _apply_pieces(block, selection.groups, ranges, curve))
+        _apply_pieces(block, selection.groups, ranges, curve, result)
+        return selection.put(edit, result)
     lut = np.ascontiguousarray(lut() if callable(lut) else lut, dtype=np.float64)
     # every group in one pass; a vector's channels keep an unused identity line
     width = block.shape[2]
@@ -172,7 +175,6 @@ def apply_lut(
         for c, lo, span in zip(group.channels, tone.lo, tone.span, strict=True):
             ab[c], to_pos[c], shift[c] = line_tables(lut, lo, span, tail)
     groups = [g for g, _ in vectors]
-    result = empty_touched(block.shape)
     lut_apply(
         block,
         ab,
@@ -189,9 +191,9 @@ def apply_lut(
 
 
 def _apply_pieces(
-    block: np.ndarray, groups: list, ranges: list[ToneRange], curve: Pieces
-) -> np.ndarray:
-    """The pieces through ``block`` (H, W, k): per channel, vectors by magnitude."""
+    block: np.ndarray, groups: list, ranges: list[ToneRange], curve: Pieces, result: np.ndarray
+) -> None:
+    """The pieces through ``block`` (H, W, k) into ``result``: per channel, vectors by magnitude."""
     height, width, channels = block.shape
     lo = np.zeros(channels)
     span = np.ones(channels)
@@ -204,7 +206,6 @@ def _apply_pieces(
             vector_ranges.append((tone.lo[0], 1.0 / tone.span[0], tone.span[0]))
         else:
             lo[group.channels], span[group.channels] = tone.lo, tone.span
-    result = empty_touched(block.shape)
     pieces_apply(
         np.ascontiguousarray(block),
         np.tile(lo.astype(np.float32), width),
@@ -218,7 +219,6 @@ def _apply_pieces(
         curve.coeffs,
         result,
     )
-    return result
 
 
 def curve_ranges(
