@@ -36,3 +36,22 @@ def gather_planes(texels, index, planes):
         for c in range(channels):
             for i in range(start, stop):
                 planes[c, i] = buffer[i - start, c]
+
+
+@njit(cache=True, parallel=True, nogil=True, error_model="numpy")
+def plane_magnitudes(planes, channels, quadrature, out):
+    """``out[i] = sqrt(sum_j q[j] planes[channels[j], i]^2)`` in float64, one pass.
+
+    Summed channel by channel in order, each term ``(v * v) * q``, and without
+    fused multiply-adds: the bits of numpy's ``sqrt((v**2 * q).sum(-1))`` over
+    ``block[..., channels]`` (whose fancy indexing puts the channels outermost,
+    so numpy adds them in order).
+    """
+    count = out.shape[0]
+    for chunk in prange((count + _CHUNK - 1) // _CHUNK):
+        for i in range(chunk * _CHUNK, min(count, (chunk + 1) * _CHUNK)):
+            total = 0.0
+            for j in range(channels.shape[0]):
+                v = np.float64(planes[channels[j], i])
+                total += (v * v) * quadrature[j]
+            out[i] = np.sqrt(total)

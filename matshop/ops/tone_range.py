@@ -36,7 +36,7 @@ from typing import Literal
 import numpy as np
 
 from ..errors import InvalidValue
-from ._gather import gather_planes
+from ._gather import gather_planes, plane_magnitudes
 from .selection import ChannelGroup
 
 Remap = Literal["data", "space"]
@@ -144,21 +144,14 @@ def group_values(block: np.ndarray, group: ChannelGroup) -> np.ndarray:
 
 
 def _plane_values(planes: np.ndarray, group: ChannelGroup) -> np.ndarray:
-    """:func:`group_values` of a sample's planes, as planes ``(k, n)`` (the same bits).
-
-    The magnitude adds the weighted squares channel by channel in float64, the
-    order numpy's sum takes over ``block[..., channels]`` (whose fancy indexing
-    leaves the channels outermost in memory).
-    """
+    """:func:`group_values` of a sample's planes, as planes ``(k, n)`` (the same bits)."""
     if group.curve_mode != "vector":
         return planes[group.channels]
-    total = np.zeros(planes.shape[1])
-    for channel, weight in zip(group.channels, group.quadrature, strict=True):
-        square = planes[channel].astype(np.float64)
-        square *= square
-        square *= weight
-        total += square
-    return np.sqrt(total)[None]
+    out = np.empty((1, planes.shape[1]))
+    plane_magnitudes(
+        planes, np.asarray(group.channels, dtype=np.int64), np.asarray(group.quadrature), out[0]
+    )
+    return out
 
 
 def tail_slope(remap: Remap) -> float:
