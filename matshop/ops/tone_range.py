@@ -149,7 +149,10 @@ def _plane_values(planes: np.ndarray, group: ChannelGroup) -> np.ndarray:
         return planes[group.channels]
     out = np.empty((1, planes.shape[1]))
     plane_magnitudes(
-        planes, np.asarray(group.channels, dtype=np.int64), np.asarray(group.quadrature), out[0]
+        planes,
+        np.asarray(group.channels, dtype=np.int64),
+        np.asarray(group.quadrature, dtype=np.float64),
+        out[0],
     )
     return out
 
