@@ -273,3 +273,37 @@ def test_a_filter_layer_widens_a_sampled_lobe_through_a_project(tmp_path: Path) 
     got, _ = read_image(tmp_path / "out" / "v_distribution.exr")
     err = np.abs(_cdf(got) - _beckmann_cdf(math.sqrt(0.2**2 + HAND_TRACE))).max()
     assert err < 2e-3, err
+
+
+def test_viewport_mips_widen_a_beckmann_table_and_sample_the_widened_lobe() -> None:
+    """The GL viewport's mip chain with keep variance (``shading_maps.mip_chain``) on a
+    sampled lobe: the checkerboard's 2x2 averages lose ``HAND_TRACE``, so level 1's table
+    is Beckmann(sqrt(m^2 + HAND_TRACE)) (closed-form CDF), and the nodes the shader
+    samples the environment with are that lobe's closed-form quantiles
+    ``atan(m' sqrt(-ln(1 - y)))``; level 0 and the plain chain keep the source table."""
+    from matshop.viewport.gl import sampled_lobe, shading_maps
+
+    schema = Schema.from_names(["base_color", "distribution", "normal"])
+    m = 0.2
+    maps = {
+        "base_color": np.full((SIZE, SIZE, 3), 0.5, np.float32),
+        "distribution": np.broadcast_to(d_from_beckmann(m), (SIZE, SIZE, N)).copy(),
+        "normal": _checker(_tilted(*TILT_A), _tilted(*TILT_B)),
+    }
+    packed = shading_maps.pack(schema, maps)
+    plain = shading_maps.mip_chain(packed, 2, N)
+    kept = shading_maps.mip_chain(packed, 2, N, widen="sampled")
+    assert np.array_equal(kept["distribution"][0], plain["distribution"][0])
+    source = _cdf(d_from_beckmann(m))
+    assert np.abs(_cdf(plain["distribution"][1][..., :N]) - source).max() < 1e-6
+    wide = math.sqrt(m * m + HAND_TRACE)
+    err = np.abs(_cdf(kept["distribution"][1][..., :N]) - _beckmann_cdf(wide)).max()
+    assert err < 2e-3, err
+    y = sampled_lobe.node_levels(N).astype(np.float64)
+    nodes = kept["distribution"][1][..., 4 * sampled_lobe.table_layers(N) :]
+    truth = np.arctan(wide * np.sqrt(-np.log1p(-y)))
+    # measured 2.6e-4 rad (a table bin is 1.2e-2); the unwidened nodes are 6.9e-2 off
+    assert np.abs(nodes - truth).max() < 1e-3
+    for name in ("kd_ao", "ks_lobe", "normal_lobe"):
+        for level in range(3):
+            assert np.array_equal(kept[name][level], plain[name][level])

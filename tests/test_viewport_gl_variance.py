@@ -4,7 +4,11 @@ A bumpy material seen from afar, judged by appearance, not by the formula: the t
 the reference renderer's image of the full-resolution material at 4x the size, averaged
 4x4 down (what the eye sees from that far). The viewport draws the same material at the
 small size from mip level 2 with and without ``keep_variance``; the kept mips must be
-closer to the truth (issue 18, item 3).
+closer to the truth (issue 18, item 3). Once with the GGX lobe, once with the same lobe
+as a tabulated (sampled) distribution, which the mips widen by a Gaussian slope
+convolution of their averaged tables (:mod:`matshop.ops.sampled_widening`). The four
+images of each go to ``test-output/viewport_variance_<lobe>.png``: truth, plain, kept,
+level 0.
 
 Run under ``xvfb-run -a``; skips, saying why, only without an OpenGL 3.3 context.
 """
@@ -12,6 +16,7 @@ Run under ``xvfb-run -a``; skips, saying why, only without an OpenGL 3.3 context
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,9 +34,11 @@ install_default_format()
 if no_display_reason() is not None:  # before pytest-qt starts Qt
     pytest.skip(no_display_reason(), allow_module_level=True)
 
+import cv2  # noqa: E402
 from gl_testing import release, shown_viewport  # noqa: E402
 from scipy.ndimage import binary_erosion, gaussian_filter  # noqa: E402
 
+from matshop.figures.synthetic import with_lobe  # noqa: E402
 from matshop.layers import Document  # noqa: E402
 from matshop.material import Material  # noqa: E402
 from matshop.render import scenes  # noqa: E402
@@ -47,6 +54,7 @@ VIEW = 128  # the far view; the truth is rendered at 4x and averaged down
 REDUCTION = 4
 SIZE = 1024  # texels: 4.4 per pixel of the far view, mip level 2
 LIGHT = DirectionalLight((-0.5, 0.7, 0.6), (2.0, 2.0, 2.0))
+OUT = Path(__file__).resolve().parents[1] / "test-output"
 
 
 def bumpy_metal(size: int) -> Material:
@@ -81,8 +89,9 @@ def _gl(viewport, material: Material, level: float, keep: bool) -> np.ndarray:
     return viewport.render_image(VIEW)[..., :3].astype(int)
 
 
-def test_kept_variance_mips_look_closer_to_the_far_field(viewport) -> None:
-    material = bumpy_metal(SIZE)
+@pytest.mark.parametrize("lobe", ["ggx", "sampled"])
+def test_kept_variance_mips_look_closer_to_the_far_field(viewport, lobe) -> None:
+    material = with_lobe(bumpy_metal(SIZE), lobe)
     near = render(material, size=VIEW * REDUCTION, samples=16, lights=(LIGHT,))
     # the near render reads level 0, one texel a pixel or finer: it resolves the bumps
     assert prefilter_factor(material.size, scenes.sphere(VIEW * REDUCTION).uv_per_pixel) == 1
@@ -96,11 +105,15 @@ def test_kept_variance_mips_look_closer_to_the_far_field(viewport) -> None:
     def rmse(image: np.ndarray) -> float:
         return float(np.sqrt(np.mean((image - truth)[inside] ** 2.0)))
 
-    plain = rmse(_gl(viewport, material, level, keep=False))
-    kept = rmse(_gl(viewport, material, level, keep=True))
-    print(f"far field, 8-bit RMSE over the sphere: plain mips {plain:.2f}, kept {kept:.2f}")
-    assert kept < 0.9 * plain
+    plain_image = _gl(viewport, material, level, keep=False)
+    kept_image = _gl(viewport, material, level, keep=True)
+    assert viewport.renderer.textures.widen == lobe
+    plain, kept = rmse(plain_image), rmse(kept_image)
+    print(f"{lobe}: far field, 8-bit RMSE over the sphere: plain mips {plain:.2f}, kept {kept:.2f}")
     # level 0 averages nothing: keeping variance changes nothing there
-    np.testing.assert_array_equal(
-        _gl(viewport, material, 0.0, keep=True), _gl(viewport, material, 0.0, keep=False)
-    )
+    level0 = _gl(viewport, material, 0.0, keep=True)
+    np.testing.assert_array_equal(level0, _gl(viewport, material, 0.0, keep=False))
+    OUT.mkdir(exist_ok=True)
+    strip = np.concatenate([truth, plain_image, kept_image, level0], axis=1).astype(np.uint8)
+    cv2.imwrite(str(OUT / f"viewport_variance_{lobe}.png"), strip[..., ::-1])
+    assert kept < 0.9 * plain

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...ops.sampled_widening import widen_tabulated
 from ...render.surface import lobe_quantiles, sampled_space
 
 #: the viewport's environment samples per pixel, whose u1 the nodes bracket
@@ -96,3 +97,12 @@ def renode(texels: np.ndarray, n_bins: int) -> np.ndarray:
     split = 4 * table_layers(n_bins)
     nodes = _nodes(texels[..., :n_bins])
     return np.concatenate([texels[..., :split], nodes], axis=2)
+
+
+def widen(texels: np.ndarray, n_bins: int, added: np.ndarray) -> np.ndarray:
+    """``texels`` whose tables are widened by the total slope variance ``added`` ``(H, W)``
+    (keep variance: :func:`matshop.ops.sampled_widening.widen_tabulated`); the nodes are
+    left for :func:`renode`."""
+    out = texels.copy()
+    out[..., :n_bins] = widen_tabulated(texels[..., :n_bins], added)
+    return out

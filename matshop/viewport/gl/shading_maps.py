@@ -33,7 +33,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from ...material import Material, Schema
-from ...ops.variance import lost_slope_covariance, widen_render_lobe
+from ...ops.variance import moments_covariance, slope_moments, widen_render_lobe
 from ...render.surface import MIN_ROUGHNESS, prepare
 from . import sampled_lobe
 
@@ -128,27 +128,40 @@ def mip_chain(
 
     A sampled lobe's (``n_bins`` bins) nodes are its averaged table's
     (:func:`.sampled_lobe.renode`), as the reference's prefilter samples the mixture.
-    ``widen``: the analytic lobe family whose parameters each level widens by the
-    slope covariance its averaging removed from the level-0 normals (keep variance,
-    specular anti-aliasing: :func:`matshop.ops.variance.widen_render_lobe`).
+    ``widen``: the lobe family whose parameters each level widens by the slope
+    covariance its averaging removed from the level-0 normals (keep variance, specular
+    anti-aliasing): analytic lobes by :func:`matshop.ops.variance.widen_render_lobe`,
+    a sampled lobe's averaged table by the trace's Gaussian slope convolution
+    (:func:`.sampled_lobe.widen`) before its nodes are taken.
     """
     out = {name: box_mips(block, levels) for name, block in packed.items()}
+    lost = _lost_covariances(packed["normal_lobe"], len(out["ks_lobe"]) - 1) if widen else []
     if "distribution" in out:
         chain = out["distribution"]
-        out["distribution"] = chain[:1] + [sampled_lobe.renode(t, n_bins) for t in chain[1:]]
-    if widen is not None:
-        _widen_levels(out, packed, widen)
+        for level in range(1, len(chain)):
+            texels = chain[level]
+            if widen == "sampled":
+                cov = lost[level]
+                texels = sampled_lobe.widen(texels, n_bins, cov[..., 0] + cov[..., 2])
+            chain[level] = sampled_lobe.renode(texels, n_bins)
+    if widen is not None and widen != "sampled":
+        _widen_levels(out, lost, widen)
     return out
 
 
-def _widen_levels(out: dict[str, list[np.ndarray]], packed, family: str) -> None:
-    normal = packed["normal_lobe"][..., :3]
+def _lost_covariances(normal_lobe: np.ndarray, levels: int) -> list[np.ndarray]:
+    """Per level, the slope covariance ``(xx, xy, yy)`` its 2x2 means removed from the
+    level-0 normals (level 0: none); the moments are averaged once for all levels."""
+    averaged = box_mips(slope_moments(normal_lobe[..., :3]), levels)
+    return [moments_covariance(m) for m in averaged]
+
+
+def _widen_levels(out: dict[str, list[np.ndarray]], lost: list[np.ndarray], family: str) -> None:
     for level in range(1, len(out["ks_lobe"])):
-        cov = lost_slope_covariance(normal, lambda a, lv=level: box_mips(a, lv)[lv])
         tangent = out["tangent"][level][..., :3] if "tangent" in out else None
         ks, nl = out["ks_lobe"][level], out["normal_lobe"][level]
         lobe = np.stack([ks[..., 3], nl[..., 3]], axis=-1)
-        wide = widen_render_lobe(family, lobe, cov, tangent).astype(np.float32)
+        wide = widen_render_lobe(family, lobe, lost[level], tangent).astype(np.float32)
         out["ks_lobe"][level] = np.concatenate([ks[..., :3], wide[..., :1]], axis=-1)
         out["normal_lobe"][level] = np.concatenate([nl[..., :3], wide[..., 1:]], axis=-1)
 

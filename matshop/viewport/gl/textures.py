@@ -13,9 +13,10 @@ the coarsest level, fine for any view the viewport offers). A document whose
 size is not a multiple of a power-of-two tile falls back to regenerating the
 mips on the GPU after an update (counted as the base level only; a sampled
 lobe's nodes are then averaged nodes, not its averaged table's). With
-``keep_variance`` each level's analytic lobe is widened by the tilt variance the
-level averages out of the normals (:func:`.shading_maps.mip_chain`; not on the
-fallback path, and not for sampled lobes).
+``keep_variance`` each level's lobe is widened by the tilt variance the level
+averages out of the normals (:func:`.shading_maps.mip_chain`: analytic lobes by
+their slope variance, a sampled lobe's averaged table by a Gaussian slope
+convolution before its nodes are taken; not on the fallback path).
 
 :attr:`MaterialTextures.bytes_uploaded` counts every byte passed to
 ``glTexImage2D``/``glTexSubImage2D``; ``tests/test_viewport_gl.py`` checks a dab
@@ -88,8 +89,8 @@ class MaterialTextures:
         self.doc = doc
         self.lobe = lobe
         self.family = shading_maps.lobe_family(doc.schema, lobe)
-        #: mips widen an analytic lobe by the tilt variance they average away
-        self.widen = self.family if keep_variance and self.family != "sampled" else None
+        #: mips widen the lobe (analytic or sampled) by the tilt variance they average away
+        self.widen = self.family if keep_variance else None
         layout = doc.layout
         self.width, self.height = layout.width, layout.height
         tile = layout.tile_size
