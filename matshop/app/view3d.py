@@ -149,6 +149,8 @@ def _viewport_class() -> type:
         # -- held while the background flatten is pending --------------------
 
         def _apply(self) -> None:
+            if self.renderer is not None:  # a background upload reads no block meanwhile
+                self.renderer.paused = self.dock.held()
             if self.dock.held() and self._stale_content:
                 stale, self._stale_content = True, False
                 super()._apply()  # camera only: uploading would flatten on this thread

@@ -63,6 +63,8 @@ class MaterialRenderer:
         self.environment: EnvironmentTextures | None = None
         self._empty_vao = GL.glGenVertexArrays(1)
         self._pending: set[TileKey] = set()
+        #: read no document blocks for a background upload (its owner is recomputing it)
+        self.paused = False
         #: the object-space mirror plane to show over the mesh (None: none)
         self.mirror_plane: MirrorPlane | None = None
         self._mirror_overlay: MirrorOverlay | None = None
@@ -86,32 +88,60 @@ class MaterialRenderer:
             self.mesh.delete()
         self.mesh = GpuMesh(mesh)
 
-    def set_document(self, doc, *, lobe: str | None = None, keep_variance: bool = False) -> None:
+    def set_document(
+        self,
+        doc,
+        *,
+        lobe: str | None = None,
+        keep_variance: bool = False,
+        background: bool = False,
+    ) -> None:
         """Upload ``doc``'s shading textures (all of it, once); later only dirty tiles.
 
         ``keep_variance``: each mip level's lobe is widened by the normals' tilt
         variance it averages away (specular anti-aliasing, :mod:`matshop.ops.variance`).
+        ``background``: built on a worker thread and uploaded over the next frames
+        (:meth:`.textures.MaterialTextures.reload`); the same document shown with the
+        same lobe again (keep variance toggled, another mesh) reloads into the textures
+        it has, so the view keeps showing the old contents meanwhile.
         """
+        self._pending.clear()
+        same = self.textures is not None and self.textures.doc is doc and self.textures.lobe == lobe
+        if same:
+            self.textures.reload(keep_variance=keep_variance, background=background)
+            return
         if self.textures is not None:
             self.textures.delete()
-        self._pending.clear()
         self.textures = (
-            MaterialTextures(doc, lobe=lobe, keep_variance=keep_variance)
+            MaterialTextures(doc, lobe=lobe, keep_variance=keep_variance, background=background)
             if doc is not None
             else None
         )
+
+    @property
+    def loading(self) -> bool:
+        """A background upload is under way (draw again to continue it)."""
+        return self.textures is not None and self.textures.loading
 
     def mark_dirty(self, keys: Iterable[TileKey]) -> None:
         """Tiles to re-upload before the next frame (the document's dirty signal)."""
         self._pending.update(keys)
 
-    def sync(self) -> int:
-        """Upload the pending dirty tiles; returns the bytes sent."""
-        if self.textures is None or not self._pending:
+    def sync(self, *, wait: bool = False) -> int:
+        """Upload the next ready block of a background upload (``wait``: all of it), then,
+        once none is left, the pending dirty tiles; returns the bytes sent.
+
+        Dirty tiles wait for the background upload: a block read before an edit must
+        not land over the edit's tiles. While :attr:`paused`, no new block is read.
+        """
+        if self.textures is None:
             self._pending.clear()
             return 0
+        sent = self.textures.poll(wait=wait, paused=self.paused)
+        if self.textures.loading or not self._pending:
+            return sent
         keys, self._pending = self._pending, set()
-        return self.textures.update_tiles(sorted(keys))
+        return sent + self.textures.update_tiles(sorted(keys))
 
     # -- drawing -----------------------------------------------------------
 
@@ -181,6 +211,7 @@ class MaterialRenderer:
         previous = GL.glGetIntegerv(GL.GL_FRAMEBUFFER_BINDING)
         fbo = Framebuffer(width, height)
         try:
+            self.sync(wait=True)  # an image shows the whole document, uploaded
             fbo.bind()
             self.draw(width, height)
             return fbo.read()

@@ -4,7 +4,10 @@ Mouse: with a brush set (:meth:`MaterialViewport.set_brush`) the left button
 paints (with a mirror plane, :meth:`MaterialViewport.set_mirror`, also across
 it); without one, or with Alt, it orbits. The right or middle button pans,
 the wheel zooms. The document's ``dirty`` signal queues tiles; the next frame
-uploads just those (:meth:`.renderer.MaterialRenderer.sync`).
+uploads just those (:meth:`.renderer.MaterialRenderer.sync`). A whole document
+(a new one, keep variance toggled) is built on a worker thread and uploaded a
+block a frame (:mod:`.band_loader`), so the event loop keeps running meanwhile;
+:meth:`MaterialViewport.render_image` waits for all of it.
 
 Everything GL happens with the widget's context current: Qt makes it current
 around ``initializeGL``/``paintGL``; the other methods do it themselves, so
@@ -21,7 +24,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 import numpy as np
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, QTimer
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
 from ...layers.events import DirtyRegion
@@ -41,6 +44,8 @@ from .surface_map import SurfaceMap
 
 ORBIT_DEGREES_PER_PIXEL = 0.4
 WHEEL_ZOOM = 1.1
+#: frames while textures load in the background: each uploads a block, events run between
+LOADING_FRAME_MS = 15
 
 
 class MaterialViewport(QOpenGLWidget):
@@ -184,7 +189,9 @@ class MaterialViewport(QOpenGLWidget):
         r.mirror_plane = self._mirror_plane
         if self._stale_content:
             r.set_mesh(self._mesh)
-            r.set_document(self.doc, lobe=self._lobe, keep_variance=self._keep_variance)
+            r.set_document(
+                self.doc, lobe=self._lobe, keep_variance=self._keep_variance, background=True
+            )
             self._stale_content = False
 
     def initializeGL(self) -> None:  # noqa: N802 (Qt's name)
@@ -209,6 +216,8 @@ class MaterialViewport(QOpenGLWidget):
         self._apply()
         dpr = self.devicePixelRatioF()
         self.renderer.draw(int(self.width() * dpr), int(self.height() * dpr))
+        if self.renderer.loading:  # a background upload: the next block on the next frame
+            QTimer.singleShot(LOADING_FRAME_MS, self.update)
 
     def _on_dirty(self, region: DirtyRegion) -> None:
         if self.renderer is not None:
