@@ -151,7 +151,8 @@ class MaterialTextures:
     def build(self, maps: Mapping[str, np.ndarray], widen: str | None) -> dict[str, list]:
         """One block's physical ``maps`` -> every texture's levels in :func:`gl_layout`.
 
-        Pure numpy (no GL, no document): safe on a worker thread.
+        Pure numpy, no GL, nothing of the document but its (fixed) schema: safe on a
+        worker thread.
         """
         packed = shading_maps.pack(self.doc.schema, maps, self.lobe)
         levels = self.max_level if self.tile_mips else 0
