@@ -13,14 +13,16 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .api import EditableMaterial, load_mask
 from .errors import MatshopError
-from .layers import Document
-from .layers.layer import FilterLayer
 from .ops import get_op
 from .ops.selection import resolve_params
+
+if TYPE_CHECKING:  # the document model is for the editor's filter layers, not `matshop apply`
+    from .layers import Document
+    from .layers.layer import FilterLayer
 
 
 @dataclass(frozen=True)

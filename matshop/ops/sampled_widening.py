@@ -28,7 +28,6 @@ from __future__ import annotations
 from functools import cache
 
 import numpy as np
-from scipy.special import chndtr
 
 from ..spaces.sampled import bin_measure, theta_edges
 
@@ -68,6 +67,9 @@ def slope_kernel(n: int, variance: float, sub_rings: int = SUB_RINGS) -> np.ndar
 
     Columns sum to one (nothing leaves the hemisphere).
     """
+    # imported here: scipy.special costs ~0.3 s of CPU, and every op loads this module
+    from scipy.special import chndtr
+
     sigma2 = 0.5 * variance
     r = ring_radii(n, sub_rings)[:, :, None]
     t = np.tan(theta_edges(n)[1:-1])[None, None, :]
