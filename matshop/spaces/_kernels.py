@@ -1174,3 +1174,50 @@ def normalize_or_z(v, tiny, out):
             out[i, 0], out[i, 1], out[i, 2] = x / length, y / length, z / length
         else:
             out[i, 0], out[i, 1], out[i, 2] = 0.0, 0.0, 1.0
+
+
+@njit(cache=True, parallel=True, nogil=True)
+def decode_normals(rgb, sign_y, tiny, out):
+    """Normal-map pixels ``rgb`` (n, 3) float32 in [0, 1] -> unit normals into ``out``:
+    ``n = 2 rgb - 1``, green times ``sign_y`` (-1 flips DirectX's), then as
+    :func:`normalize_or_z`. One pass where numpy made three arrays; each float32
+    operation is numpy's, in numpy's order, so the result is the same bits."""
+    two, one = np.float32(2.0), np.float32(1.0)
+    for i in prange(rgb.shape[0]):
+        x = two * rgb[i, 0] - one
+        y = sign_y * (two * rgb[i, 1] - one)
+        z = two * rgb[i, 2] - one
+        length = np.sqrt(x * x + y * y + z * z)
+        if length > tiny:
+            out[i, 0], out[i, 1], out[i, 2] = x / length, y / length, z / length
+        else:
+            out[i, 0], out[i, 1], out[i, 2] = 0.0, 0.0, 1.0
+
+
+@njit(cache=True, parallel=True, nogil=True)
+def encode_normals(n, sign_y, tiny, out):
+    """Normals ``n`` (n, 3) float32 -> file pixels into ``out``: as :func:`normalize_or_z`,
+    green times ``sign_y``, then ``clip(0.5 n + 0.5, 0, 1)`` (NaN stays NaN, as with
+    ``np.clip``). One pass where numpy made five arrays; the same bits as numpy."""
+    half = np.float32(0.5)
+    for i in prange(n.shape[0]):
+        x, y, z = n[i, 0], n[i, 1], n[i, 2]
+        length = np.sqrt(x * x + y * y + z * z)
+        if length > tiny:
+            x, y, z = x / length, y / length, z / length
+        else:
+            x, y, z = np.float32(0.0), np.float32(0.0), np.float32(1.0)
+        y = sign_y * y
+        out[i, 0] = _unit_clip(half * x + half)
+        out[i, 1] = _unit_clip(half * y + half)
+        out[i, 2] = _unit_clip(half * z + half)
+
+
+@njit(inline="always", nogil=True)
+def _unit_clip(v):
+    # comparisons, not min/max: NaN fails both and passes through, as in np.clip
+    if v < 0.0:
+        return np.float32(0.0)
+    if v > 1.0:
+        return np.float32(1.0)
+    return v

@@ -44,6 +44,8 @@ from ._kernels import (
     NORMAL_FROM_EDIT,
     NORMAL_TO_EDIT,
     Step,
+    decode_normals,
+    encode_normals,
     normalize_or_z,
 )
 from .base import EditRange, FusedSpace, Space, as_channels
@@ -317,10 +319,7 @@ def decode_normal_map(rgb: np.ndarray, *, convention: Convention = "opengl") -> 
     renormalised, and zero-length pixels decode to the flat normal ``+z``.
     """
     _check_convention(convention)
-    n = _F32(2.0) * _as_unit_interval(rgb, "decode_normal_map") - _F32(1.0)
-    if convention == "directx":
-        n[..., 1] = -n[..., 1]
-    return _normalize_or_z(n)
+    return _rows_through(decode_normals, _as_unit_interval(rgb, "decode_normal_map"), convention)
 
 
 def encode_normal_map(normal: np.ndarray, *, convention: Convention = "opengl") -> np.ndarray:
@@ -330,10 +329,19 @@ def encode_normal_map(normal: np.ndarray, *, convention: Convention = "opengl") 
     flips green. Quantising to 8 or 16 bits is the writer's job.
     """
     _check_convention(convention)
-    n = _normalize_or_z(as_channels(normal, 3, "encode_normal_map").copy())
-    if convention == "directx":
-        n[..., 1] = -n[..., 1]
-    return np.clip(_F32(0.5) * n + _F32(0.5), _F32(0.0), _F32(1.0))
+    return _rows_through(encode_normals, as_channels(normal, 3, "encode_normal_map"), convention)
+
+
+def _rows_through(kernel, v: np.ndarray, convention: Convention) -> np.ndarray:
+    """``kernel(rows, sign_y, tiny, out)`` over the 3-vectors of float32 ``v``, a new array.
+
+    A 2K map is decoded or encoded in one pass into one new array (numpy took
+    three to five full-size temporaries, each a fresh allocation to fault in).
+    """
+    rows = np.ascontiguousarray(v).reshape(-1, 3)
+    out = np.empty_like(rows)
+    kernel(rows, _F32(-1.0 if convention == "directx" else 1.0), _TINY_LENGTH, out)
+    return out.reshape(v.shape)
 
 
 def _height_image(height: np.ndarray) -> np.ndarray:
