@@ -9,10 +9,12 @@ error into one line and exit status 2; nothing is written when a command fails.
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib.util
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 
 from .. import __version__
 from ..errors import MatshopError
@@ -62,6 +64,24 @@ def build_parser(argv: Sequence[str] = ()) -> argparse.ArgumentParser:
     return parser
 
 
+@contextmanager
+def _fewer_collections() -> Iterator[None]:
+    """The cyclic collector runs every 50 000 allocations instead of 700 while a verb runs.
+
+    A verb's start-up (numpy, numba and its compiler target, OpenImageIO, cv2)
+    makes ~10^5 objects that live until the process ends, and the default
+    thresholds walk them again and again: ~0.1 s of CPU of `matshop apply`
+    (measured). Cycles are still collected. Restored afterwards: tests and
+    scripts call main() inside their own process.
+    """
+    thresholds = gc.get_threshold()
+    gc.set_threshold(50_000, *thresholds[1:])
+    try:
+        yield
+    finally:
+        gc.set_threshold(*thresholds)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(argv)
@@ -74,7 +94,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return EXIT_USAGE
     try:
-        return args.run(args)
+        with _fewer_collections():
+            return args.run(args)
     except MatshopError as exc:
         print(f"matshop: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
