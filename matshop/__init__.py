@@ -10,19 +10,15 @@ import os as _os
 __version__ = "0.1.0"
 
 # what OpenMP saw if it started before this import
-_STARTED_POLICY = _os.environ.get("OMP_WAIT_POLICY", "")
-# numba's OpenMP workers otherwise spin after every parallel loop, taking
-# cores from the next step (and from the UI thread) on a busy machine
+_STARTED_POLICY = _os.environ.get("OMP_WAIT_POLICY", "").upper()
+# numba's OpenMP workers otherwise spin for a few ms after every parallel loop,
+# taking cores from the next step (and from the UI thread) on a busy machine
 _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 
-def _spinning_workers_started() -> bool:
-    """Whether numba's OpenMP workers started before us without a passive wait policy.
-
-    OpenMP reads OMP_WAIT_POLICY once, when it starts; a script that ran a
-    parallel numba function before importing matshop has workers that spin
-    after every parallel loop (to_edit measured 6-10x slower under load).
-    """
+def _workers_started() -> bool:
+    """Whether numba's OpenMP workers started before us (a script ran a parallel numba
+    function first), so that the wait policy above came too late for them."""
     import sys
 
     parallel = sys.modules.get("numba.np.ufunc.parallel")
@@ -30,24 +26,38 @@ def _spinning_workers_started() -> bool:
         return False
     import numba
 
-    return numba.threading_layer() == "omp" and _STARTED_POLICY.upper() != "PASSIVE"
+    return numba.threading_layer() == "omp"
 
 
-if _spinning_workers_started():
-    # the workers cannot be told to sleep any more; one thread never wakes them,
-    # so this (importing) thread runs matshop's kernels alone instead
+if _workers_started() and _STARTED_POLICY != "PASSIVE":
     import warnings as _warnings
 
-    import numba as _numba
+    if _STARTED_POLICY == "ACTIVE":
+        # workers that spin forever between loops would take a core from every
+        # other step; one thread never wakes them, so matshop's kernels run on
+        # this (importing) thread alone
+        import numba as _numba
 
-    _numba.set_num_threads(1)
-    _warnings.warn(
-        "numba's OpenMP threads started before matshop was imported, without "
-        "OMP_WAIT_POLICY=PASSIVE: matshop's kernels run on one thread in this thread. "
-        "Import matshop first (or set OMP_WAIT_POLICY=PASSIVE) to use all cores.",
-        RuntimeWarning,
-        stacklevel=2,
-    )
+        _numba.set_num_threads(1)
+        _warnings.warn(
+            "numba's OpenMP threads started before matshop was imported, with "
+            "OMP_WAIT_POLICY=ACTIVE: matshop's kernels run on one thread in this thread. "
+            "Import matshop first (or set OMP_WAIT_POLICY=PASSIVE) to use all cores.",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    else:
+        # libgomp's default policy spins ~3 ms after each parallel loop, then sleeps
+        # (tests/test_import_order.py checks it): a 2K set converts as fast as with
+        # the passive policy, but many small loops (tiles) spend several times the CPU
+        _warnings.warn(
+            "numba's OpenMP threads started before matshop was imported, without "
+            "OMP_WAIT_POLICY=PASSIVE: they spin for a few ms after each parallel loop, "
+            "which costs CPU when loops are small. Import matshop first (or set "
+            "OMP_WAIT_POLICY=PASSIVE) to avoid it.",
+            RuntimeWarning,
+            stacklevel=2,
+        )
 
 
 def open(path, **load_options):  # noqa: A001 - matshop.open is the API's front door

@@ -1,9 +1,11 @@
 """Thread settings do not depend on whether numba ran before matshop was imported.
 
 OpenMP fixes its wait policy when numba first runs a parallel loop; matshop
-sets it passive only if it gets there first. A script that ran numba first
-gets a warning and single-threaded kernels in that thread instead of spinning
-workers; the normal order keeps every thread. Fresh interpreters, real imports.
+sets it passive only if it gets there first. A script that ran numba first keeps
+every thread (libgomp's default policy spins a few ms after each loop and then
+sleeps, which the last test checks) and gets a warning; only workers told to spin
+forever (OMP_WAIT_POLICY=ACTIVE) make matshop run its kernels on one thread.
+Fresh interpreters, real imports.
 """
 
 from __future__ import annotations
@@ -56,12 +58,53 @@ def test_matshop_first_keeps_every_thread() -> None:
     assert threads == default and warned == 0
 
 
-@pytest.mark.skipif(os.cpu_count() == 1, reason="one CPU: numba has one thread anyway")
-def test_numba_first_without_a_passive_policy_runs_on_one_thread_and_says_so() -> None:
+def test_numba_first_with_the_default_policy_keeps_every_thread_and_says_so() -> None:
     threads, default, warned = run("numba-first")
+    assert threads == default and warned == 1
+
+
+@pytest.mark.skipif(os.cpu_count() == 1, reason="one CPU: numba has one thread anyway")
+def test_numba_first_with_an_active_policy_runs_on_one_thread_and_says_so() -> None:
+    threads, default, warned = run("numba-first", OMP_WAIT_POLICY="active")
     assert default > 1 and threads == 1 and warned == 1
 
 
 def test_numba_first_with_a_passive_policy_keeps_every_thread() -> None:
     threads, default, warned = run("numba-first", OMP_WAIT_POLICY="passive")
     assert threads == default and warned == 0
+
+
+IDLE = """
+import time
+import numpy as np
+from numba import njit, prange
+
+@njit(parallel=True)
+def fill(a):
+    for i in prange(a.shape[0]):
+        a[i] = 1.0
+
+for _ in range(4):
+    fill(np.zeros(100_000))
+start = time.process_time()
+time.sleep(1.0)
+print(time.process_time() - start)
+"""
+
+
+def idle_cpu_s(**env: str) -> float:
+    """CPU seconds numba's process spends in the second after its last parallel loop."""
+    environ = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"} | env
+    done = subprocess.run(
+        [sys.executable, "-c", IDLE], capture_output=True, text=True, env=environ, check=True
+    )
+    return float(done.stdout.split()[-1])
+
+
+@pytest.mark.skipif(os.cpu_count() == 1, reason="one CPU: numba starts no workers")
+def test_default_policy_workers_sleep_soon_and_active_ones_spin() -> None:
+    """Why numba-first keeps every thread: libgomp's default spins ~3 ms (measured 4 ms)
+    after a loop, then sleeps; ACTIVE spins on (measured 286 ms of one idle second at
+    load 10, a whole core on a quiet machine)."""
+    assert idle_cpu_s() < 0.05
+    assert idle_cpu_s(OMP_WAIT_POLICY="active") > 0.05
