@@ -1,7 +1,8 @@
 """`matshop apply` imports what the ops it runs need and nothing more: no Qt, no scipy.special
-(its import costs ~0.3 s of CPU, a fifth of a whole blur run), not the document model nor the
-other ops. A fresh interpreter runs the real command on the bundled sample and lists what
-was imported when it exits."""
+(its import costs ~0.3 s of CPU, a fifth of a whole blur run), no scipy.linalg (numba's BLAS
+check, skipped by the command: matshop.cli.startup), not the document model nor the other
+ops. A fresh interpreter runs the real command on the bundled sample and lists what was
+imported when it exits."""
 
 from __future__ import annotations
 
@@ -25,6 +26,7 @@ NEVER_FOR_A_BLUR = (
     "PySide6",
     "pyqtgraph",
     "scipy.special",
+    "scipy.linalg",
     "scipy.ndimage",
     "scipy.spatial",
     "scipy.interpolate",

@@ -9,16 +9,15 @@ error into one line and exit status 2; nothing is written when a command fails.
 from __future__ import annotations
 
 import argparse
-import gc
 import importlib.util
 import os
 import sys
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 
 from .. import __version__
 from ..errors import MatshopError
 from .registry import VERBS, load
+from .startup import fewer_collections, numba_without_scipy_blas
 
 EXIT_USAGE = 2
 
@@ -64,38 +63,27 @@ def build_parser(argv: Sequence[str] = ()) -> argparse.ArgumentParser:
     return parser
 
 
-@contextmanager
-def _fewer_collections() -> Iterator[None]:
-    """The cyclic collector runs every 50 000 allocations instead of 700 while a verb runs.
-
-    A verb's start-up (numpy, numba and its compiler target, OpenImageIO, cv2)
-    makes ~10^5 objects that live until the process ends, and the default
-    thresholds walk them again and again: ~0.1 s of CPU of `matshop apply`
-    (measured). Cycles are still collected. Restored afterwards: tests and
-    scripts call main() inside their own process.
-    """
-    thresholds = gc.get_threshold()
-    gc.set_threshold(50_000, *thresholds[1:])
-    try:
-        yield
-    finally:
-        gc.set_threshold(*thresholds)
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(argv)
-    args = parser.parse_args(argv)
-    if args.verb is None:
-        if _has_display() and importlib.util.find_spec("PySide6") is not None:
-            from ..app import launch
+    with fewer_collections():  # a verb's module imports the engine while it is parsed
+        parser = build_parser(argv)
+        args = parser.parse_args(argv)
+        if args.verb is not None:
+            return _run(args)
+    # no verb: the editor, whose long session keeps Python's default collector
+    if _has_display() and importlib.util.find_spec("PySide6") is not None:
+        from ..app import launch
 
-            return launch.start()
-        parser.print_help()
-        return EXIT_USAGE
+        return launch.start()
+    parser.print_help()
+    return EXIT_USAGE
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Run the verb ``args`` names; a user error is one line and exit status 2."""
+    numba_without_scipy_blas()
     try:
-        with _fewer_collections():
-            return args.run(args)
+        return args.run(args)
     except MatshopError as exc:
         print(f"matshop: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
