@@ -1,6 +1,6 @@
 """`matshop apply` imports what the ops it runs need and nothing more: no Qt, no scipy.special
-(its import costs ~0.3 s of CPU, a fifth of a whole blur run), no scipy.linalg (numba's BLAS
-check, skipped by the command: matshop.cli.startup), not the document model nor the other
+(its import costs ~0.3 s of CPU, a fifth of a whole blur run), no scipy.linalg nor cffi (numba's
+probes for them, skipped by the command: matshop.cli.startup), not the document model nor the other
 ops. A fresh interpreter runs the real command on the bundled sample and lists what was
 imported when it exits."""
 
@@ -27,6 +27,7 @@ NEVER_FOR_A_BLUR = (
     "pyqtgraph",
     "scipy.special",
     "scipy.linalg",
+    "cffi",
     "scipy.ndimage",
     "scipy.spatial",
     "scipy.interpolate",

@@ -1,8 +1,8 @@
 """The command's start-up shortcuts (matshop.cli.startup): while a verb runs the cyclic
 collector runs rarely, and the caller's thresholds come back afterwards, also when the
-verb fails; after `matshop apply` skipped numba's BLAS check, compiled np.convolve,
-np.correlate and np.dot in the same process still give numpy's answers (np.dot imports
-scipy's BLAS when it is compiled, as before)."""
+verb fails; after `matshop apply` skipped numba's probes for scipy's BLAS and cffi,
+compiled np.convolve, np.correlate and np.dot in the same process still give numpy's
+answers (np.dot imports scipy's BLAS when it is compiled, as before)."""
 
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ from matshop.cli import main
 
 with contextlib.redirect_stdout(io.StringIO()):
     assert main(["apply", sys.argv[1], sys.argv[2], "--op", "blur", "sigma_px=1"]) == 0
-skipped = "scipy.linalg" not in sys.modules
+skipped = "scipy.linalg" not in sys.modules and "cffi" not in sys.modules
 
 @njit
 def maths(a, b):

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from .. import __version__
 from ..errors import MatshopError
 from .registry import VERBS, load
-from .startup import fewer_collections, numba_without_scipy_blas
+from .startup import fewer_collections, numba_without_unused_extras
 
 EXIT_USAGE = 2
 
@@ -81,7 +81,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     """Run the verb ``args`` names; a user error is one line and exit status 2."""
-    numba_without_scipy_blas()
+    numba_without_unused_extras()
     try:
         return args.run(args)
     except MatshopError as exc:

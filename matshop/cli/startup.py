@@ -2,13 +2,14 @@
 
 Measured on `matshop apply` of the 2K chessboard set (one thread, CPU time):
 Python's cyclic collector walked the ~10^5 objects of numpy, numba, OpenImageIO
-and cv2 again and again (0.13 s of collections, 0.04 s left), and numba's check
-for scipy's BLAS imported all of scipy.linalg (0.13-0.17 s).
+and cv2 again and again (0.13 s of collections, 0.04 s left), and numba's probes
+for optional packages imported all of scipy.linalg (0.13-0.17 s) and pycparser.
 """
 
 from __future__ import annotations
 
 import gc
+import importlib
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -30,25 +31,34 @@ def fewer_collections() -> Iterator[None]:
         gc.set_threshold(*thresholds)
 
 
-def numba_without_scipy_blas() -> None:
-    """Import numba's array maths with ``scipy.linalg`` hidden, once numba is imported.
+#: numba modules that probe optional packages when imported (by the first compiled call),
+#: and the packages hidden from them: scipy's BLAS (its check imports all of scipy.linalg
+#: and, through scipy's array-API layer, numpy.f2py and numpy.testing: 0.13-0.17 s of
+#: CPU) and cffi (an FFI instance parses C declarations with pycparser: ~0.04 s)
+_PROBES = {"numba.np.arraymath": "scipy.linalg", "numba.core.typing.cffi_utils": "cffi"}
+
+
+def numba_without_unused_extras() -> None:
+    """Let numba set up as if scipy's BLAS and cffi were absent, once numba is imported.
 
     The first compiled kernel a process calls (even one from numba's on-disk
-    cache) imports ``numba.np.arraymath``, which checks at import time whether
-    scipy's BLAS is there: that imports all of scipy.linalg, and through scipy's
-    array-API layer numpy.f2py and numpy.testing. The answer only decides whether
-    ``np.convolve`` / ``np.correlate`` in compiled code call BLAS or a plain loop
-    (matshop's kernels call neither); numba's linear algebra imports scipy when
-    it is compiled, as before. Called before any thread of the command starts.
+    cache) imports the modules of :data:`_PROBES`, which look for those optional
+    packages; both absences are configurations numba supports. Without the BLAS,
+    ``np.convolve`` / ``np.correlate`` in compiled code use a plain loop and
+    numba's linear algebra imports scipy when it is compiled, as before; without
+    cffi, compiled code cannot call cffi functions. matshop's kernels do neither.
+    Called before any thread of the command starts (the hidden modules are hidden
+    from every thread meanwhile).
     """
-    if "numba" not in sys.modules or "numba.np.arraymath" in sys.modules:
+    if "numba" not in sys.modules:
         return
-    if "scipy.linalg" in sys.modules:
-        return  # already paid for
-    sys.modules["scipy.linalg"] = None  # an import of it, or of a module in it, raises ImportError
-    try:
-        import numba.np.arraymath  # noqa: F401
-    except ImportError:
-        pass  # a numba that needs scipy.linalg itself: its first kernel imports both as usual
-    finally:
-        del sys.modules["scipy.linalg"]
+    for probe, package in _PROBES.items():
+        if probe in sys.modules or package in sys.modules:
+            continue  # done, or already paid for
+        sys.modules[package] = None  # importing it, or a module in it, raises ImportError
+        try:
+            importlib.import_module(probe)
+        except ImportError:
+            pass  # a numba that needs the package: its first kernel imports both as usual
+        finally:
+            del sys.modules[package]
