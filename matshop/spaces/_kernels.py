@@ -1194,6 +1194,16 @@ def decode_normals(rgb, sign_y, tiny, out):
             out[i, 0], out[i, 1], out[i, 2] = 0.0, 0.0, 1.0
 
 
+@njit(inline="always", nogil=True)
+def _unit_clip(v):
+    # comparisons, not min/max: NaN fails both and passes through, as in np.clip
+    if v < 0.0:
+        return np.float32(0.0)
+    if v > 1.0:
+        return np.float32(1.0)
+    return v
+
+
 @njit(cache=True, parallel=True, nogil=True)
 def encode_normals(n, sign_y, tiny, out):
     """Normals ``n`` (n, 3) float32 -> file pixels into ``out``: as :func:`normalize_or_z`,
@@ -1211,13 +1221,3 @@ def encode_normals(n, sign_y, tiny, out):
         out[i, 0] = _unit_clip(half * x + half)
         out[i, 1] = _unit_clip(half * y + half)
         out[i, 2] = _unit_clip(half * z + half)
-
-
-@njit(inline="always", nogil=True)
-def _unit_clip(v):
-    # comparisons, not min/max: NaN fails both and passes through, as in np.clip
-    if v < 0.0:
-        return np.float32(0.0)
-    if v > 1.0:
-        return np.float32(1.0)
-    return v
