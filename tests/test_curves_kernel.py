@@ -125,10 +125,11 @@ def test_curves_equal_the_numpy_formulation(remap, params, points) -> None:
 
 def test_levels_without_schema_equal_the_numpy_formulation() -> None:
     edit = edit_array(64, 70)[..., :10]
-    args = (0.1, 0.8, 1.7, 0.05, 0.95)  # a gamma: the table path
+    args = (0.1, 0.8, 1.7, 0.05, 0.95)
     got = levels(edit, **dict(zip(LEVELS_NAMES, args, strict=True)))
-    lut = levels_lut(*args)
-    expected = reference(edit, table_curve(lut), lut, schema=None, params=None, remap="data")
+    expected = reference(
+        edit, exact_levels(*args), levels_lut(*args), schema=None, params=None, remap="data"
+    )
     finite = np.abs(expected) < 1e6
     np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
 
@@ -138,16 +139,46 @@ LEVELS_NAMES = ("in_black", "in_white", "gamma", "out_black", "out_white")
 
 @pytest.mark.parametrize("remap", ["data", "space"])
 @pytest.mark.parametrize(
-    "args", [(0.1, 0.8, 1.0, 0.05, 0.95), (0.0, 1.0, 1.0, 0.2, 0.7), (0.2, 0.9, 1.0, 0.1, 0.7)]
+    "args",
+    [
+        (0.1, 0.8, 1.0, 0.05, 0.95),
+        (0.0, 1.0, 1.0, 0.2, 0.7),
+        (0.2, 0.9, 1.0, 0.1, 0.7),
+        (0.1, 0.9, 1.4, 0.0, 1.0),  # the benchmark's
+        (0.0, 1.0, 0.45, 0.1, 0.9),
+        (0.05, 0.7, 2.2, 0.2, 0.8),
+    ],
 )
-def test_levels_without_gamma_equal_the_closed_form(remap, args) -> None:
-    """Levels without a gamma run as straight pieces: the closed form exactly."""
+def test_levels_equal_the_closed_form(remap, args) -> None:
+    """Levels run as pieces (lines, and a power for the gamma): the closed form exactly."""
     edit = edit_array()
     got = levels(edit, schema=SCHEMA, remap=remap, **dict(zip(LEVELS_NAMES, args, strict=True)))
     f, lut = exact_levels(*args), levels_lut(*args)
     expected = reference(edit, f, lut, schema=SCHEMA, params=None, remap=remap)
     finite = np.abs(expected) < 1e6
     np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
+
+
+@pytest.mark.parametrize("gamma", [1.4, 0.5, 2.2, 0.01, 100.0])
+def test_the_gamma_is_the_power_to_float32_rounding(gamma) -> None:
+    """Levels 0..1 on [0, 1] (fixed range) is ``x^(1 / gamma)``: against numpy in float64.
+
+    Every float32 exponent is covered (subnormals, 0 and 1 included). Up to
+    2.5 ulp of the result for gammas of 0.5 to 2.2; within 1.2e-7 (an ulp of
+    1) absolute for any gamma, which is what a tone curve's output sees.
+    """
+    rng = np.random.default_rng(5)
+    x = np.ldexp(rng.uniform(1.0, 2.0, 60_000), rng.integers(-149, 0, 60_000))
+    x = np.concatenate([x.astype(np.float32), [0.0, 1.0, 1e-45, 0.5, 0.70710677, 0.7071068]])
+    x = np.concatenate([x, rng.random(40_000)]).astype(np.float32)
+    got = levels(x.reshape(1, -1, 1), gamma=gamma, remap="space")[0, :, 0].astype(np.float64)
+    expected = x.astype(np.float64) ** (1.0 / gamma)
+    error = np.abs(got - expected)
+    assert error.max() <= 1.2e-7
+    if 0.5 <= gamma <= 2.2:
+        normal = expected >= np.finfo(np.float32).tiny
+        ulp = np.spacing(expected[normal].astype(np.float32)).astype(np.float64)
+        assert (error[normal] / ulp).max() <= 2.5
 
 
 @pytest.mark.parametrize("remap", ["data", "space"])

@@ -9,9 +9,9 @@ to [0, 1] is the ``remap`` parameter (:mod:`.tone_range`): by default the
 values' own robust range in this image (so an S-curve raises the contrast of
 what is there, as in the paper's Fig. 7(b)), or the space's fixed range. The
 curve is a monotone cubic through the control points. A curve of up to five
-points (and levels without a gamma) is evaluated exactly from its polynomial
-pieces in a vectorised pass (``_pieces.py``, 2x faster on 3 channels); more
-points, or a gamma, go through a uniform lookup table (``curve_lut``, whose
+points, and levels (its gamma a vectorised power), are evaluated exactly from
+their pieces in a vectorised pass (``_pieces.py``, 2x faster on 3 channels);
+more points go through a uniform lookup table (``curve_lut``, whose
 interpolation errs below 1e-6 for moderate bends). One fused pass per texel.
 """
 
@@ -25,7 +25,7 @@ import numpy as np
 from ..material import Schema
 from ._fresh import empty_touched_soon
 from ._kernels import line_tables, lut_apply
-from ._pieces import Pieces, pieces_apply
+from ._pieces import Pieces, pieces_apply, split_exponent
 from .selection import Selection
 from .spec import WHOLE_IMAGE, OpError, OpSpec, OpTarget, ParamSpec, Reach
 from .tone_range import CLIP_PERCENT, REMAPS, Remap, ToneRange, tail_slope, tone_ranges
@@ -116,20 +116,23 @@ def curve_pieces(points: Sequence[tuple[float, float]], tail: float) -> Pieces |
 def levels_pieces(
     in_black: float, in_white: float, gamma: float, out_black: float, out_white: float, tail: float
 ) -> Pieces | None:
-    """:func:`levels_lut` as straight pieces when ``gamma`` is 1 (None otherwise)."""
-    if gamma != 1.0:
-        return None
+    """:func:`levels_lut` as pieces: straight lines, and between the input points
+    a line (``gamma`` 1) or ``out_black + (out_white - out_black) v^(1 / gamma)``."""
     below, above = _end_slopes(
         lambda: levels_lut(in_black, in_white, gamma, out_black, out_white), tail
     )
     pieces: list[tuple[float, tuple[float, ...]]] = [(0.0, (out_black, below))]
-    if in_black > 0.0:
-        pieces.append((0.0, (out_black,)))
-    pieces.append((in_black, (out_black, (out_white - out_black) / (in_white - in_black))))
-    if in_white < 1.0:
-        pieces.append((in_white, (out_white,)))
+    inv_width = 1.0 / (in_white - in_black)
+    if gamma != 1.0:  # one power piece over [0, 1], clamped at the input points
+        pieces.append((0.0, (out_black, out_white - out_black, inv_width, in_black)))
+    else:
+        if in_black > 0.0:
+            pieces.append((0.0, (out_black,)))
+        pieces.append((in_black, (out_black, (out_white - out_black) * inv_width)))
+        if in_white < 1.0:
+            pieces.append((in_white, (out_white,)))
     pieces.append((1.0, (out_white, above)))
-    return Pieces.build(pieces)
+    return Pieces.build(pieces, exponent=1.0 / gamma)
 
 
 def apply_lut(
@@ -217,6 +220,7 @@ def _apply_pieces(
         np.array(vector_ranges or [(0.0, 1.0, 1.0)], dtype=np.float32),
         curve.breaks,
         curve.coeffs,
+        split_exponent(curve.exponent),
         result,
     )
 
