@@ -129,9 +129,8 @@ def _pow_unit(x, p):
     e = e + _ONE if big else e
     f = (m - _ONE) / (m + _ONE)
     s = f * f
-    series = s * (
-        np.float32(2 / 3) + s * (np.float32(2 / 5) + s * (np.float32(2 / 7) + s * np.float32(2 / 9)))
-    )
+    tail = np.float32(2 / 7) + s * np.float32(2 / 9)
+    series = s * (np.float32(2 / 3) + s * (np.float32(2 / 5) + s * tail))
     log2_m = (f + f + f * series) * _INV_LN2
     a = e * p_hi
     n1 = (a + _ROUND) - _ROUND
