@@ -13,9 +13,11 @@ $(PYTHON):
 	$(SYSTEM_PYTHON) -m venv $(VENV)
 	$(PIP) --upgrade pip
 
-# install, then run the main job on the bundled sample
+# install, compile the numba kernels (so the editor's first uses do not), run the main
+# job on the bundled sample
 sample: $(PYTHON)
 	$(PIP) -e ".[gui]"
+	$(PYTHON) -m matshop warm-up --if-cold
 	$(PYTHON) -m matshop demo resources/sample --out matshop-demo
 
 # the Khronos glTF validator the export tests use (skipped, with the reason, without npm)
@@ -32,6 +34,7 @@ validator:
 test: $(PYTHON) validator
 	$(PIP) -e ".[gui,test]"
 	$(PYTHON) -m ruff check matshop tests benchmarks scripts
+	$(PYTHON) -m matshop warm-up --if-cold
 	if [ -z "$$DISPLAY" ] && command -v xvfb-run >/dev/null; then \
 		xvfb-run -a -s "-screen 0 1280x1024x24" $(PYTHON) -m pytest; \
 	else \

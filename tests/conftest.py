@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import gc
 import os
+import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -53,6 +55,20 @@ def gl_context(request):
         return OffscreenContext()
     except GLUnavailable as exc:
         pytest.skip(f"no OpenGL 3.3 core context can be created here: {exc}")
+
+
+@pytest.fixture(scope="session")
+def warm_kernels() -> None:
+    """numba's on-disk cache holds every kernel: ``matshop warm-up --if-cold`` run once, in a
+    child (as ``make test`` and the editor's launch run it), so a stall test measures the
+    editor's own work and not first-use compiles (tests/test_first_use.py covers those)."""
+    subprocess.run(
+        [sys.executable, "-m", "matshop", "warm-up", "--if-cold"],
+        cwd=Path(__file__).resolve().parent.parent,
+        check=True,
+        capture_output=True,
+        timeout=1500,
+    )
 
 
 def pytest_addoption(parser) -> None:

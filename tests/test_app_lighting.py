@@ -241,7 +241,9 @@ def test_uniform_light_exposure_and_a_turned_spot_on_the_lit_display(window, tmp
     assert window.grab().save(str(SHOTS / "lighting_lit_display.png"))
 
 
-def test_a_big_hdr_loads_without_stalling_and_a_broken_one_is_one_line(window, tmp_path):
+def test_a_big_hdr_loads_without_stalling_and_a_broken_one_is_one_line(
+    warm_kernels, window, tmp_path
+):
     assert window.open_path(SAMPLE)
     window.actions_by_name["view3d"].trigger()
     window.actions_by_name["lit"].trigger()
@@ -253,16 +255,8 @@ def test_a_big_hdr_loads_without_stalling_and_a_broken_one_is_one_line(window, t
     sky = np.repeat(sky.astype(np.float32), 3, axis=2)
     sky[300:340, 1000:1040] = 200.0
     big = write_image(tmp_path / "big_sky.hdr", sky)
-    # numba compiles the loading kernels on first use when its on-disk cache is empty (a
-    # fresh clone), holding the GIL for ~0.4 s; a small file is loaded first so the stall
-    # measured is the big file's own
-    small = write_image(tmp_path / "small_sky.hdr", np.ascontiguousarray(sky[::16, ::16]))
     del sky
     combo = window.lighting_bar.combo
-    window.prompts.environment_path = small
-    combo.activated.emit(combo.count() - 1)
-    settle(window)
-    assert window.lighting.choice.source == str(small)
     messages: list[str] = []
     window.lighting.message.connect(messages.append)
     beat = Heartbeat()
@@ -275,12 +269,16 @@ def test_a_big_hdr_loads_without_stalling_and_a_broken_one_is_one_line(window, t
     load = os.getloadavg()[0]
     print(
         f"big HDR: loaded in {window.lighting.last_seconds:.2f} s; longest event-loop gap "
-        f"{1000 * wall:.0f} ms wall, {1000 * cpu:.0f} ms GUI-thread CPU (load {load:.1f})"
+        f"{1000 * wall:.0f} ms wall ({1000 * beat.own_stall:.0f} ms not waiting for a CPU), "
+        f"{1000 * cpu:.0f} ms GUI-thread CPU (load {load:.1f})"
     )
     assert window.lighting.choice.source == str(big)
-    # the GUI thread's own work, as the other 2K stall tests judge; the wall gap on a quiet
-    # machine is 0.28-0.32 s (the loading worker holds the GIL that long: an open issue)
+    # the GUI thread's own work always (the longest gap is the 3D view's texture upload,
+    # ~40 ms of CPU); the wall gap when the machine is not overloaded, since a loaded
+    # machine stretches even that upload past 250 ms (measured: 0.17-0.3 s at load 11)
     assert cpu < STALL_LIMIT_S
+    if load < (os.cpu_count() or 1):
+        assert wall < STALL_LIMIT_S
     assert any("Loading the environment big_sky.hdr" in m for m in messages), messages
     # the 3D view got it too (reduced to 1024 rows)
     assert window.view3d.viewport.renderer.environment.env.radiance.shape == (1024, 2048, 3)

@@ -22,6 +22,8 @@ def start(path: Path | None = None, argv: list[str] | None = None) -> int:
     window = MainWindow()
     error_hook.install(window.show_message)
     window.show()
+    # a cold numba cache (a fresh install): compile in a child, not on first use here
+    window.kernel_warm_up.start_if_cold()
     if path is not None:
         window.open_path(path)
     return int(app.exec())

@@ -12,7 +12,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from PySide6.QtCore import QSettings, QSize, Qt, QThreadPool
+from PySide6.QtCore import QSettings, QSize, Qt
 from PySide6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent, QFont
 from PySide6.QtWidgets import (
     QComboBox,
@@ -26,7 +26,6 @@ from PySide6.QtWidgets import (
 
 from .. import __version__
 from ..layers import Rect
-from ..paint.sampling import warm_up
 from ..render.environment_choice import EnvironmentChoice
 from ..tools.base import Tool
 from ..tools.painting import TOOL_CLASSES
@@ -43,6 +42,7 @@ from .curves_dialog import CurvesDialog
 from .files import FileController
 from .history_panel import HistoryPanel
 from .image_import import import_image, is_image
+from .kernel_warm_up import KernelWarmUp
 from .layer_commands import LayerCommands
 from .layers_panel import LayersPanel
 from .lighting import LightingController
@@ -55,7 +55,6 @@ from .session import DocumentSession
 from .settings import AppSettings
 from .tool_host import EditorToolHost
 from .view3d import View3DDock
-from .work import start_worker
 
 
 class MainWindow(QMainWindow):
@@ -230,8 +229,10 @@ class MainWindow(QMainWindow):
         self.tool_panel.tip_panel.loadRequested.connect(lambda: choose_tip(self))
         self.tool_panel.stencil_panel.loadRequested.connect(lambda: choose_stencil(self))
         self.canvas.set_stencil(self.brush_settings.stencil)
-        # off the GUI thread, so the first tip or stencil dab does not wait for numba
-        start_worker(QThreadPool.globalInstance(), warm_up)
+        # compiled kernels loaded off the GUI thread, so the first dab does not wait for numba
+        self.kernel_warm_up = KernelWarmUp()
+        self.kernel_warm_up.message.connect(self.show_message)
+        self.kernel_warm_up.preload()
         self.layers_panel = LayersPanel(self.session, self.layer_commands, self.actions_by_name)
         self.properties_panel = PropertiesPanel(self.session, self.layer_commands)
         self.history_panel = HistoryPanel(self.session)
@@ -273,6 +274,7 @@ class MainWindow(QMainWindow):
         status.addPermanentWidget(self.tool_label)
         status.addPermanentWidget(self.values_label, 1)
         status.addPermanentWidget(self.busy_indicator)
+        status.addPermanentWidget(self.kernel_warm_up)
         status.addPermanentWidget(self.texel_label)
 
     # -- state -------------------------------------------------------------------

@@ -193,11 +193,24 @@ def spin(ms: int) -> None:
     loop.exec()
 
 
+def run_queue_wait_s() -> float:
+    """Seconds the calling thread has spent runnable but waiting for a CPU (Linux
+    ``/proc/thread-self/schedstat``; 0.0 where the kernel does not say)."""
+    try:
+        with open("/proc/thread-self/schedstat") as stats:
+            return int(stats.read().split()[1]) * 1e-9
+    except (OSError, ValueError, IndexError):
+        return 0.0
+
+
 class Heartbeat:
     """A 10 ms timer measuring event-loop stalls: wall and GUI-thread CPU time between ticks.
 
     The GUI thread's CPU time between two ticks is the work that blocked the loop;
     the wall gap adds whatever time the OS gave to other threads and processes.
+    :attr:`own_gaps` is each wall gap less the time the GUI thread sat runnable waiting
+    for a CPU: what this process itself kept the loop from (its work, and waits on the
+    GIL or a lock), whatever the load of the machine.
     """
 
     def __init__(self) -> None:
@@ -206,22 +219,26 @@ class Heartbeat:
         self.timer.timeout.connect(self._tick)
         self.wall_gaps: list[float] = []
         self.cpu_gaps: list[float] = []
+        self.own_gaps: list[float] = []
 
     def _tick(self) -> None:
-        wall, cpu = time.perf_counter(), time.thread_time()
+        wall, cpu, queued = time.perf_counter(), time.thread_time(), run_queue_wait_s()
         self.wall_gaps.append(wall - self._wall)
         self.cpu_gaps.append(cpu - self._cpu)
-        self._wall, self._cpu = wall, cpu
+        self.own_gaps.append(wall - self._wall - (queued - self._queued))
+        self._wall, self._cpu, self._queued = wall, cpu, queued
 
     def measure(
         self, action: Callable[[], object], settle: Callable[[], bool], timeout_s: float = 60.0
     ) -> tuple[object, float, float]:
         """Run ``action``, then the event loop until ``settle()``.
 
-        Returns ``(action's result, longest wall gap, longest GUI-thread CPU gap)`` in seconds.
+        Returns ``(action's result, longest wall gap, longest GUI-thread CPU gap)`` in
+        seconds; :attr:`own_stall` is the longest of :attr:`own_gaps`.
         """
-        self.wall_gaps, self.cpu_gaps = [], []
+        self.wall_gaps, self.cpu_gaps, self.own_gaps = [], [], []
         self._wall, self._cpu = time.perf_counter(), time.thread_time()
+        self._queued = run_queue_wait_s()
         self.timer.start()
         result = action()
         end = time.perf_counter() + timeout_s
@@ -230,6 +247,11 @@ class Heartbeat:
         self.timer.stop()
         self._tick()
         return result, max(self.wall_gaps), max(self.cpu_gaps)
+
+    @property
+    def own_stall(self) -> float:
+        """The longest gap this process caused (see the class doc), seconds."""
+        return max(self.own_gaps, default=0.0)
 
     def idle(self, seconds: float) -> float:
         """The longest wall gap with nothing to do for ``seconds`` (the machine's own noise)."""

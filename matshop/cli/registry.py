@@ -45,6 +45,9 @@ VERBS: dict[str, Verb] = {
     "recover": Verb(_V + "recover", "restore a project from its autosave (recovery) file"),
     "flatten": Verb(_V + "flatten", "flatten a project and write it as a texture set"),
     "batch": Verb(_V + "batch", "apply a recipe to every texture set of a library, on Dask"),
+    "warm-up": Verb(
+        _V + "warm_up", "compile the numba kernels now, so first uses in the editor do not"
+    ),
     "open": Verb(
         _V + "open",
         "start the editor (optionally opening a texture set or a .matshop project)",

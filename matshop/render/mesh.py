@@ -100,7 +100,7 @@ def _corner(text: str, n_pos: int, n_uv: int, n_nrm: int) -> tuple[int, int, int
     return index(fields[0], n_pos), index(fields[1], n_uv), index(fields[2], n_nrm)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # arrays only: other threads (the GUI) run meanwhile
 def _rasterize(sx, sy, depth, tris, height, width, zbuf, tri_id, bary):
     for t in range(tris.shape[0]):
         a, b, c = tris[t, 0], tris[t, 1], tris[t, 2]
