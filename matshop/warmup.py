@@ -166,9 +166,11 @@ _PARAMETER_SETS = (None, ("roughness",), ("base_color", "roughness"))
 
 
 def _blending(doc: Any, layers: list[Any]) -> None:
-    """The compositor's blend step for each kind of channel selection, with a layer's values
-    as an array and as a fill's broadcast constant, on blocks either side of the size where
-    the blend kernel goes parallel: every layout the editor's blends can meet."""
+    """The compositor's blend step for each kind of channel selection (``layers``), on
+    blocks either side of the size where the blend kernel goes parallel, with a layer's
+    values as each kind of array numba tells apart: a filter's output (contiguous), a
+    fill's constant (broadcast, read-only), a paint layer's pixels (strided: they sit
+    beside their coverage channel). Every layout the editor's blends can meet."""
     from .layers.blend import _PARALLEL_FROM
     from .layers.compositor import blend_into
 
@@ -177,8 +179,10 @@ def _blending(doc: Any, layers: list[Any]) -> None:
         side = int(np.sqrt(texels))
         below = np.full((side, side, channels), 0.5, np.float32)
         alpha = np.full((side, side), 0.5, np.float32)
+        with_coverage = np.concatenate([below, alpha[..., None]], axis=-1)
+        kinds = (below + 0.1, np.broadcast_to(below[0, 0], below.shape), with_coverage[..., :-1])
         for layer in layers:
-            for values in (below + 0.1, np.broadcast_to(below[0, 0], below.shape)):
+            for values in kinds:
                 blend_into(layer, doc.schema, below, values, alpha, below[0, 0].copy())
 
 

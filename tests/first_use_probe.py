@@ -31,15 +31,17 @@ from matshop import warmup  # noqa: E402
 from matshop.app.testing import Heartbeat, drag, make_window, spin  # noqa: E402
 
 
-def _compiled() -> dict[str, int]:
-    """Signatures numba compiled in this process so far, per kernel."""
+def _compiled() -> set[str]:
+    """The signatures numba compiled in this process so far, as ``kernel(types)``."""
     return {
-        name: sum(kernel.stats.cache_misses.values()) for name, kernel in warmup.kernels().items()
+        f"{name}{signature}"
+        for name, kernel in warmup.kernels().items()
+        for signature in kernel.stats.cache_misses
     }
 
 
-def _new(before: dict[str, int]) -> list[str]:
-    return sorted(k for k, n in _compiled().items() if n > before.get(k, 0))
+def _new(before: set[str]) -> list[str]:
+    return sorted(_compiled() - before)
 
 
 def _pick(combo, data: str) -> None:

@@ -14,12 +14,8 @@ hide.
 
 from __future__ import annotations
 
-import os
 import threading
 import time
-
-if not os.environ.get("DISPLAY"):
-    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
 import numpy as np
 import pytest
