@@ -18,6 +18,7 @@ import pytest
 
 from matshop import warmup
 from matshop.cli import main
+from matshop.warmup import stamp as stamp_module
 
 
 @pytest.fixture
@@ -30,7 +31,7 @@ def stamp(tmp_path, monkeypatch) -> Path:
     get_space("srgb").to_edit(np.full((4, 4, 3), 0.5, np.float32))
     write_image(tmp_path / "x.png", np.zeros((4, 4, 3), np.float32))
     path = tmp_path / "cache" / warmup.STAMP_NAME
-    monkeypatch.setattr(warmup, "stamp_path", lambda: path)
+    monkeypatch.setattr(stamp_module, "stamp_path", lambda: path)
     warmup.write_stamp()
     return path
 

@@ -1,55 +1,28 @@
-"""Compile numba's kernels ahead of first use (``matshop warm-up``; the editor at launch).
+"""The warm-up's work: the engine's public paths run once on small data.
 
-numba compiles a kernel the first time it meets a new signature and keeps the
-machine code in its on-disk cache (``cache=True``). On a fresh install that cache
-is empty, so the editor's first open, first stroke and first HDR compiled on the
-thread that called: the GUI thread (1.4 s for the first tip stroke), or a worker,
-which holds the GIL while numba compiles and so froze the event loop just the same.
-Running the same kernels once in *another process* fills the cache; the editor then
-only loads machine code.
-
-How numba keys its cache decides how this is done. Each kernel has an index file
-(next to its source, or under ``NUMBA_CACHE_DIR``) stamped with the source file's
-modification time and size; its entries are keyed by the argument types and the
-target CPU (name and features). So the warm-up
-
-- runs the engine's public paths (read, convert, paint, filter, flatten, render,
-  write) on small data instead of calling kernels directly: each kernel then meets
-  the argument types (dtype, dimensions, layout) the editor gives it;
-- runs in a child of the same interpreter, on the same source files, with the same
-  environment (``NUMBA_CACHE_DIR``), on the same machine: the entries it writes are
-  the ones the editor looks up.
-
-:func:`write_stamp` records numba's version, the CPU and every kernel module's
-(mtime, size) next to the cache; :func:`is_warm` compares, so the editor can tell a
-warm cache from a cold or stale one without compiling anything.
+Going through the paths the editor takes (read, convert, paint, composite, filter, show,
+render, write) instead of calling kernels directly is what makes each kernel meet the
+argument types the editor gives it (dtype, dimensions, array layout), and numba keys
+its cache entries by those types.
 """
 
 from __future__ import annotations
 
-import json
-import sys
-import tempfile
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-STAMP_NAME = "matshop-warm-up.json"
 #: texels a side of the warm-up's data: big enough to take the tiled paths (several
 #: 64-texel tiles, chunked conversions), small enough to run in moments once compiled
 SIDE_PX = 256
 
 
-# -- the jobs: public paths on small data -------------------------------------------
-
-
 def _plausible(space: Any, shape: tuple[int, int]) -> np.ndarray:
     """Physical values ``space`` accepts, varied across the texels."""
-    from .spaces.sampled import SampledDistributionSpace, d_from_ggx
-    from .spaces.subsurface import SubsurfaceProfileSpace, profile_burley
+    from ..spaces.sampled import SampledDistributionSpace, d_from_ggx
+    from ..spaces.subsurface import SubsurfaceProfileSpace, profile_burley
 
     ramp = np.linspace(0.1, 0.9, shape[0] * shape[1], dtype=np.float32).reshape(shape)
     if isinstance(space, SampledDistributionSpace):
@@ -64,7 +37,7 @@ def _plausible(space: Any, shape: tuple[int, int]) -> np.ndarray:
 
 def _spaces() -> None:
     """Every editing space, both ways."""
-    from .spaces import all_spaces
+    from ..spaces import all_spaces
 
     for space in all_spaces().values():
         edit = space.to_edit(_plausible(space, (SIDE_PX, SIDE_PX)))
@@ -73,7 +46,7 @@ def _spaces() -> None:
 
 def _material() -> Any:
     """A material with every parameter kind, converted both ways as one edit vector."""
-    from .material import PARAMETER_KINDS, Material, Schema
+    from ..material import PARAMETER_KINDS, Material, Schema
 
     schema = Schema.from_names(PARAMETER_KINDS)
     maps = {p.name: _plausible(p.space, (SIDE_PX, SIDE_PX)) for p in schema.parameters}
@@ -84,8 +57,8 @@ def _material() -> Any:
 
 def _texture_set(folder: Path) -> Any:
     """A small PBR set written (8- and 16-bit PNG) and read back as the editor opens one."""
-    from .io.images import write_image
-    from .io.material_io import load_material
+    from ..io.images import write_image
+    from ..io.material_io import load_material
 
     ramp = np.linspace(0.0, 1.0, SIDE_PX * SIDE_PX, dtype=np.float32).reshape(SIDE_PX, -1)
     gray = ramp[..., None]
@@ -112,7 +85,7 @@ def _show(doc: Any) -> None:
 
 
 def _wave(count: int = 24) -> list[Any]:
-    from .paint import StrokeSample
+    from ..paint import StrokeSample
 
     return [
         StrokeSample(SIDE_PX * (0.1 + 0.8 * t), SIDE_PX * (0.5 + 0.3 * np.sin(6 * t)), 0.3 + t / 2)
@@ -122,9 +95,9 @@ def _wave(count: int = 24) -> list[Any]:
 
 def _paint(doc: Any, history: Any, swatch: Any) -> None:
     """Round dabs and every tip (random dynamics; a stencil), erase, clone, a mask."""
-    from .layers import AddLayer
-    from .paint import Brush, Dynamics, Stencil, StrokeSession
-    from .paint.tips import SHAPES, procedural_tip
+    from ..layers import AddLayer
+    from ..paint import Brush, Dynamics, Stencil, StrokeSession
+    from ..paint.tips import SHAPES, procedural_tip
 
     paint = doc.new_paint_layer("paint", parameters=swatch.parameters)
     history.push(AddLayer(paint))
@@ -171,8 +144,8 @@ def _blending(doc: Any, layers: list[Any]) -> None:
     values as each kind of array numba tells apart: a filter's output (contiguous), a
     fill's constant (broadcast, read-only), a paint layer's pixels (strided: they sit
     beside their coverage channel). Every layout the editor's blends can meet."""
-    from .layers.blend import _PARALLEL_FROM
-    from .layers.compositor import blend_into
+    from ..layers.blend import _PARALLEL_FROM
+    from ..layers.compositor import blend_into
 
     channels = doc.schema.channel_indices().size
     for texels in (64 * 64, 2 * _PARALLEL_FROM):  # the parallel side even for one channel
@@ -189,9 +162,9 @@ def _blending(doc: Any, layers: list[Any]) -> None:
 def _document(material: Any) -> Any:
     """Paint; fill with every blend mode (masked); filter layers of every op; each shown,
     with layers on all, one and two apart of the parameters."""
-    from .layers import BLEND_MODES, AddLayer, Document, History
-    from .ops import all_ops
-    from .paint import Swatch
+    from ..layers import BLEND_MODES, AddLayer, Document, History
+    from ..ops import all_ops
+    from ..paint import Swatch
 
     doc = Document.from_material(material)
     history = History(doc)
@@ -219,10 +192,10 @@ def _document(material: Any) -> Any:
 
 def _render_and_write(material: Any, folder: Path) -> None:
     """Thumbnails (sphere, swatch) in a procedural and a file environment; files out."""
-    from .io.images import write_image
-    from .io.material_io import save_material
-    from .render.environment import load_environment
-    from .render.render import render
+    from ..io.images import write_image
+    from ..io.material_io import save_material
+    from ..render.environment import load_environment
+    from ..render.render import render
 
     sky = np.tile(np.linspace(2.0, 0.1, 16, dtype=np.float32)[:, None, None], (1, 32, 3))
     write_image(folder / "sky.exr", sky, bit_depth="float")
@@ -242,96 +215,3 @@ def jobs(folder: Path) -> list[tuple[str, Callable[[], object]]]:
         ("painting, layers, filters", lambda: state.setdefault("flat", _document(state["set"]))),
         ("rendering and writing", lambda: _render_and_write(state["flat"], folder)),
     ]
-
-
-# -- what was compiled, and the stamp ------------------------------------------------
-
-
-def kernels() -> dict[str, Any]:
-    """Every cached numba kernel of matshop imported so far, by ``module.name``."""
-    from numba.core.registry import CPUDispatcher
-
-    found = {}
-    for module_name, module in list(sys.modules.items()):
-        if not module_name.startswith("matshop.") or module is None:
-            continue
-        for name, value in list(vars(module).items()):
-            if (
-                isinstance(value, CPUDispatcher)
-                and value.py_func.__module__ == module_name
-                and value._cache.__class__.__name__ != "NullCache"  # cache=True
-            ):
-                found[f"{module_name}.{name}"] = value
-    return found
-
-
-def compile_counts() -> tuple[int, int]:
-    """(signatures compiled, signatures loaded from the disk cache) in this process so far."""
-    compiled = loaded = 0
-    for kernel in kernels().values():
-        compiled += sum(kernel.stats.cache_misses.values())
-        loaded += sum(kernel.stats.cache_hits.values())
-    return compiled, loaded
-
-
-def stamp_path() -> Path:
-    """Where numba keeps the cache of matshop's kernels (per NUMBA_CACHE_DIR), and the stamp."""
-    from .io._codes import _codes
-
-    try:  # numba's own answer: in-tree __pycache__, NUMBA_CACHE_DIR, or the user cache
-        folder = Path(_codes._cache.cache_path)
-    except AttributeError:  # a numba without it: a stamp never found reads as cold
-        folder = Path(tempfile.gettempdir())
-    return folder / STAMP_NAME
-
-
-def _target() -> dict[str, Any]:
-    """What numba's cache entries depend on besides the sources."""
-    import llvmlite.binding as llvm
-    import numba
-
-    return {
-        "numba": numba.__version__,
-        "python": sys.version.split()[0],
-        "cpu": llvm.get_host_cpu_name(),
-        "features": llvm.get_host_cpu_features().flatten(),
-    }
-
-
-def _source_stamp(path: str) -> list[float]:
-    stat = Path(path).stat()
-    return [stat.st_mtime, stat.st_size]
-
-
-def write_stamp() -> Path:
-    """Record the target and every kernel module's (mtime, size) after a warm-up."""
-    files = sorted({kernel.py_func.__code__.co_filename for kernel in kernels().values()})
-    stamp = {**_target(), "sources": {f: _source_stamp(f) for f in files}}
-    path = stamp_path()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    scratch = path.with_suffix(".tmp")
-    scratch.write_text(json.dumps(stamp, indent=1))
-    scratch.replace(path)
-    return path
-
-
-def is_warm() -> bool:
-    """True when a warm-up ran on these sources, this numba and this CPU (nothing compiled)."""
-    try:
-        stamp = json.loads(stamp_path().read_text())
-        if {k: stamp.get(k) for k in _target()} != _target() or not stamp["sources"]:
-            return False
-        return all(_source_stamp(f) == list(s) for f, s in stamp["sources"].items())
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
-        return False
-
-
-def warm_up(report: Callable[[str], None] = print) -> tuple[int, int]:
-    """Run every job, then stamp the cache; returns (compiled, loaded) signature counts."""
-    with tempfile.TemporaryDirectory(prefix="matshop-warm-up-") as scratch:
-        for label, run in jobs(Path(scratch)):
-            began = time.perf_counter()
-            run()
-            report(f"  {label}: {time.perf_counter() - began:.1f} s")
-    write_stamp()
-    return compile_counts()
