@@ -36,8 +36,6 @@ class KernelWarmUp(QLabel):
 
     #: a one-line result for the status bar
     message = Signal(str)
-    #: the child ended: True when it compiled everything
-    finished = Signal(bool)
 
     def __init__(self) -> None:
         super().__init__("Compiling image kernels for first use…")
@@ -107,4 +105,3 @@ class KernelWarmUp(QLabel):
                 f"Compiling the image kernels failed ({' '.join(detail.split())}); "
                 "each tool compiles on its first use instead"
             )
-        self.finished.emit(ok)
