@@ -178,13 +178,17 @@ class SurfaceMap:
 
     # -- queries -----------------------------------------------------------
 
-    def texel_world_at(self, uv: np.ndarray) -> float:
-        """World length of a texel at texture coordinate ``uv`` (after the uv scale)."""
+    def _texel_at(self, uv: np.ndarray) -> tuple[list, int, int]:
+        """The baked layers to search at ``uv`` (its UV tile's first, else all) and the texel."""
         cell = tuple(int(c) for c in np.floor(uv))
         u, v = np.mod(uv, 1.0)
         col = min(int(u * self.width), self.width - 1)
         row = min(int((1.0 - v) * self.height), self.height - 1)
-        layers = [lay for lay in self.layers if lay.cell == cell] or self.layers
+        return [lay for lay in self.layers if lay.cell == cell] or self.layers, row, col
+
+    def texel_world_at(self, uv: np.ndarray) -> float:
+        """World length of a texel at texture coordinate ``uv`` (after the uv scale)."""
+        layers, row, col = self._texel_at(uv)
         for layer in layers:
             if layer.valid[row, col]:
                 return float(layer.texel_world[row, col])
@@ -197,11 +201,7 @@ class SurfaceMap:
         Central differences of the baked points (one-sided at an island's edge);
         None where the neighbours are not baked (the texel is alone in its island).
         """
-        cell = tuple(int(c) for c in np.floor(uv))
-        u, v = np.mod(uv, 1.0)
-        col = min(int(u * self.width), self.width - 1)
-        row = min(int((1.0 - v) * self.height), self.height - 1)
-        layers = [lay for lay in self.layers if lay.cell == cell] or self.layers
+        layers, row, col = self._texel_at(uv)
         for layer in layers:
             if not layer.valid[row, col]:
                 continue
