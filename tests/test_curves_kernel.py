@@ -12,15 +12,19 @@ are the ops' own (:func:`curve_ranges`); they are checked separately against
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from scipy.interpolate import PchipInterpolator
 
+from matshop.io.material_io import load_material
 from matshop.material import Schema
 from matshop.ops.curves import curve_lut, curve_ranges, curves, levels, levels_lut
 from matshop.ops.selection import Selection
 from matshop.ops.tone_range import MAX_SAMPLES, _sample, percentiles, tail_slope
 
+SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
 SCHEMA = Schema.from_names(["base_color", "distribution", "normal", "metallic"])
 POINTS = [(0.0, 0.05), (0.3, 0.6), (0.7, 0.75), (1.0, 0.9)]  # five pieces with the tails
 THREE_POINTS = [(0.0, 0.1), (0.4, 0.6), (1.0, 0.95)]  # four pieces: the short kernel loop
@@ -157,6 +161,23 @@ def test_levels_equal_the_closed_form(remap, args) -> None:
     expected = reference(edit, f, lut, schema=SCHEMA, params=None, remap=remap)
     finite = np.abs(expected) < 1e6
     np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
+
+
+@pytest.mark.parametrize("params", [None, ["base_color"]])
+@pytest.mark.parametrize("args", [(0.1, 0.9, 1.4, 0.0, 1.0), (0.02, 0.6, 0.45, 0.1, 0.85)])
+def test_levels_on_real_maps_equal_the_closed_form(params, args) -> None:
+    """The repository's sample set read from its files (colour, scalars and a normal
+    map, so a frame goes by magnitude): levels against the float64 closed form."""
+    material, _ = load_material(SAMPLE)
+    edit = material.to_edit()
+    named = dict(zip(LEVELS_NAMES, args, strict=True))
+    got = levels(edit.data, schema=edit.schema, params=params, **named)
+    expected = reference(
+        edit.data, exact_levels(*args), levels_lut(*args),
+        schema=edit.schema, params=params, remap="data",
+    )  # fmt: skip
+    np.testing.assert_allclose(got, expected, rtol=3e-6, atol=3e-6)
+    assert np.abs(got - edit.data).max() > 0.05  # the maps did change
 
 
 @pytest.mark.parametrize("gamma", [1.4, 0.5, 2.2, 0.01, 100.0])
