@@ -42,7 +42,9 @@ from . import lit_scene
 #: sharper picture while the full one is drawn
 COARSE_BUDGETS_S = (0.05, 0.5)
 #: about how long one band of the full pass takes (the most a newer light waits)
-BAND_BUDGET_S = 0.1
+BAND_BUDGET_S = 0.05
+#: rows of a pass's first band, which measures the speed for the rest
+PROBE_ROWS = 8
 #: the first guess of the shader's speed, before anything was measured (llvmpipe, 2 cores)
 INITIAL_S_PER_PIXEL = 3e-7
 
@@ -201,17 +203,35 @@ class GLLitWorker(QThread):
     def _render(self, renderer, generation: int, direction: tuple[float, float, float]) -> None:
         renderer.lighting.lights = lit_scene.lights(direction)
         width, height = renderer.size(0)
-        for level in self._coarse_levels(width * height):
-            self._emit(renderer, generation, level, self._timed(renderer, level))
-            if self._newer():
-                return
-        band = max(8, int(BAND_BUDGET_S / (self.s_per_pixel * width)))
-        began = time.perf_counter()
-        for top in range(0, height, band):
-            if top > 0 and self._newer():
+        for level in [*self._coarse_levels(width * height), 0]:
+            seconds = self._draw_in_bands(renderer, level)
+            if seconds is None:
                 return  # the light moved on: this picture would be out of date
-            self._timed(renderer, 0, (top, min(top + band, height)))
-        self._emit(renderer, generation, 0, time.perf_counter() - began)
+            self._emit(renderer, generation, level, seconds)
+            if level and self._newer():
+                return
+
+    def _draw_in_bands(self, renderer, level: int) -> float | None:
+        """Draw ``level`` in bands of about :data:`BAND_BUDGET_S`; its seconds, or None when
+        a newer request came between two bands.
+
+        Every pass is banded, the coarse ones too: llvmpipe rasterizes the scenes of all
+        the process's contexts on one set of threads, so while a band draws here the
+        window's own frames on the GUI thread wait for it (a whole 0.5 s coarse pass
+        stalled the event loop for as long). The first band is a few rows: the speed
+        measured before may not hold (a new environment or material, the 3D view drawing
+        on the same threads), and that band measures it."""
+        width, height = renderer.size(level)
+        began = time.perf_counter()
+        top = 0
+        while top < height:
+            if top > 0 and self._newer():
+                return None
+            band = PROBE_ROWS if top == 0 else int(BAND_BUDGET_S / (self.s_per_pixel * width))
+            bottom = min(top + max(PROBE_ROWS, band), height)
+            self._timed(renderer, level, (top, bottom))
+            top = bottom
+        return time.perf_counter() - began
 
     def _coarse_levels(self, pixels: int) -> list[int]:
         """The coarse passes to show before the full one, coarsest first: the finest level
@@ -231,8 +251,10 @@ class GLLitWorker(QThread):
         began = time.perf_counter()
         renderer.draw(level, rows)
         seconds = time.perf_counter() - began
-        # a running mean that forgets in a few passes (the load changes)
-        self.s_per_pixel = 0.7 * self.s_per_pixel + 0.3 * seconds / max(pixels, 1)
+        measured = seconds / max(pixels, 1)
+        # a slowdown counts at once (the next band must keep to its budget); a speed-up
+        # through a running mean that forgets in a few passes (the load changes)
+        self.s_per_pixel = max(measured, 0.7 * self.s_per_pixel + 0.3 * measured)
         return seconds
 
     def _emit(self, renderer, generation: int, level: int, seconds: float) -> None:

@@ -108,8 +108,10 @@ class MainWindow(QMainWindow):
         self.lit_preview.message.connect(self.show_message)
         self.addToolBar(self.lighting_bar)
         self.lighting.message.connect(self.show_message)
-        self.lighting.changed.connect(self.lit_preview.set_lighting)
+        # the 3D view first: its upload on this thread is done before the lit display's
+        # thread starts drawing with the new lighting on the same llvmpipe threads
         self.lighting.changed.connect(self.view3d.show_lighting)
+        self.lighting.changed.connect(self.lit_preview.set_lighting)
         saved = self.app_settings.lighting()
         if saved is None or not self.lighting.restore(saved):
             self.lighting.choose(EnvironmentChoice())

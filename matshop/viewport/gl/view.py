@@ -25,6 +25,7 @@ from contextlib import contextmanager
 
 import numpy as np
 from PySide6.QtCore import Qt, QTimer
+from PySide6.QtGui import QImage
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 
 from ...layers.events import DirtyRegion
@@ -32,6 +33,7 @@ from ...paint.brush import Brush
 from ...paint.stencil import Stencil
 from ...paint.swatch import Swatch
 from ...render.environment import Environment
+from .banded_frame import BandedFrames
 from .camera import OrbitCamera
 from .context import surface_format
 from .mesh_data import MeshData, load_mesh, uv_sphere
@@ -46,6 +48,9 @@ ORBIT_DEGREES_PER_PIXEL = 0.4
 WHEEL_ZOOM = 1.1
 #: frames while textures load in the background: each uploads a block, events run between
 LOADING_FRAME_MS = 15
+#: the most one paint may draw for: a slower frame (software OpenGL) is drawn in bands
+#: over several paints, the last whole frame shown meanwhile (:mod:`.banded_frame`)
+FRAME_BUDGET_S = 0.06
 
 
 class MaterialViewport(QOpenGLWidget):
@@ -53,6 +58,10 @@ class MaterialViewport(QOpenGLWidget):
 
     def __init__(self, parent=None) -> None:
         super().__init__(parent)
+        #: the frame drawn in bands within FRAME_BUDGET_S a paint (:mod:`.banded_frame`)
+        self.frames = BandedFrames(FRAME_BUDGET_S)
+        self._grab = False
+        self._frame_saw_loading = False
         # per widget, so it holds even if the QApplication predates install_default_format
         self.setFormat(surface_format())
         self.camera = OrbitCamera()
@@ -123,6 +132,11 @@ class MaterialViewport(QOpenGLWidget):
             self._mirror_plane = plane
             self._mirror = None
             self.update()
+
+    @property
+    def drawing(self) -> bool:
+        """A frame is being drawn in bands (the last whole one is shown meanwhile)."""
+        return self.frames.drawing
 
     @property
     def mirror_plane(self) -> MirrorPlane | None:
@@ -205,6 +219,7 @@ class MaterialViewport(QOpenGLWidget):
         if self.renderer is not None:
             self.makeCurrent()
             self.renderer.delete()
+            self.frames.delete()
             if self._pick is not None:
                 self._pick.delete()
             self.doneCurrent()
@@ -212,12 +227,39 @@ class MaterialViewport(QOpenGLWidget):
         self._pick = None
         self._stale_content = True
 
+    def update(self) -> None:  # noqa: D102 - every change of the picture comes through here
+        self.frames.restart()
+        super().update()
+
+    def _next_band(self) -> None:
+        super().update()  # the same frame goes on
+
+    def grabFramebuffer(self) -> QImage:  # noqa: N802, D102 - Qt's name; a grab shows it whole
+        self._grab = True
+        try:
+            return super().grabFramebuffer()
+        finally:
+            self._grab = False
+
     def paintGL(self) -> None:  # noqa: N802
         self._apply()
-        dpr = self.devicePixelRatioF()
-        self.renderer.draw(int(self.width() * dpr), int(self.height() * dpr))
-        if self.renderer.loading:  # a background upload: the next block on the next frame
-            QTimer.singleShot(LOADING_FRAME_MS, self.update)
+        width, height = self._pixel_size()
+        # a background upload sends a block with each band: a frame that saw one shows
+        # textures that changed between its bands, so another frame follows it
+        self._frame_saw_loading |= self.renderer.loading
+        self.frames.paint(
+            self.defaultFramebufferObject(),
+            width,
+            height,
+            lambda: self.renderer.draw(width, height),
+            whole=self._grab,
+        )
+        if self.frames.drawing:  # events run between two bands
+            QTimer.singleShot(0, self._next_band)
+        elif self._frame_saw_loading:  # (drawing from now: the next frame is due)
+            self._frame_saw_loading = False
+            self.frames.restart()
+            QTimer.singleShot(LOADING_FRAME_MS, self._next_band)
 
     def _on_dirty(self, region: DirtyRegion) -> None:
         if self.renderer is not None:

@@ -1,0 +1,105 @@
+"""A view's frames drawn in row bands that each keep to a time budget.
+
+On a GPU a frame of the 3D view takes a millisecond and is drawn whole. Software
+OpenGL (Mesa's llvmpipe, what CI and machines without a GPU have) takes 0.1-0.5 s
+for the same frame, and the window waits for it when it composes the widget, so
+one frame would stall the event loop for as long. :class:`BandedFrames` draws such
+a frame in bands of rows over several paints, each band sized by the speed the
+previous band measured, into a back buffer; the front buffer holds the last whole
+frame and is what the widget shows meanwhile, so the picture never tears. A frame
+that fits the budget is one band: the only cost is one copy.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from OpenGL import GL
+
+from .fbo import Framebuffer
+
+#: rows of the first band when nothing was measured yet (a new view)
+PROBE_ROWS = 32
+
+
+class BandedFrames:
+    """Front and back buffers of one view and the frame being drawn (see the module doc)."""
+
+    def __init__(self, budget_s: float) -> None:
+        self.budget_s = budget_s
+        self.s_per_row: float | None = None
+        self._front: Framebuffer | None = None
+        self._back: Framebuffer | None = None
+        self._shown = False  # the front buffer holds a whole frame
+        self._next_row: int | None = 0  # the back buffer's next band (None: no frame wanted)
+
+    @property
+    def drawing(self) -> bool:
+        """A frame is under way: paint again to draw its next band."""
+        return self._next_row is not None
+
+    def restart(self) -> None:
+        """The picture changed: draw a new frame (the current whole one stays shown)."""
+        self._next_row = 0
+
+    def paint(
+        self, target: int, width: int, height: int, draw: Callable[[], None], *, whole: bool = False
+    ) -> None:
+        """Draw the next band with ``draw`` (which draws a whole ``width x height`` frame into
+        the bound framebuffer; the scissor keeps the band) and show the last whole frame in
+        framebuffer ``target``. ``whole``: draw the rest of the frame now (a grab)."""
+        if self._back is None or (self._back.width, self._back.height) != (width, height):
+            self.delete()
+            self._front, self._back = Framebuffer(width, height), Framebuffer(width, height)
+            self._shown, self._next_row = False, 0
+        if self._next_row is not None:
+            self._draw_band(width, height, draw, whole)
+        GL.glBindFramebuffer(GL.GL_DRAW_FRAMEBUFFER, target)
+        GL.glViewport(0, 0, width, height)
+        if not self._shown:  # nothing whole yet: the background colour, not a torn frame
+            GL.glClearColor(0.0, 0.0, 0.0, 1.0)
+            GL.glClear(GL.GL_COLOR_BUFFER_BIT)
+            return
+        GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, self._front.id)
+        GL.glBlitFramebuffer(
+            0, 0, width, height, 0, 0, width, height, GL.GL_COLOR_BUFFER_BIT, GL.GL_NEAREST
+        )
+        GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, target)
+
+    def _draw_band(self, width: int, height: int, draw: Callable[[], None], whole: bool) -> None:
+        top = self._next_row
+        if whole:
+            rows = height - top
+        elif self.s_per_row is None:
+            rows = PROBE_ROWS
+        else:
+            rows = max(1, int(self.budget_s / self.s_per_row))
+        bottom = min(height, top + rows)
+        self._back.bind()
+        GL.glEnable(GL.GL_SCISSOR_TEST)
+        GL.glScissor(0, height - bottom, width, bottom - top)  # GL counts rows from the bottom
+        began = time.perf_counter()
+        try:
+            draw()
+            GL.glFinish()  # the band's real cost, and the window does not wait for it later
+        finally:
+            GL.glDisable(GL.GL_SCISSOR_TEST)
+        measured = (time.perf_counter() - began) / (bottom - top)
+        # a slowdown counts at once (the next band must keep to the budget); a speed-up
+        # through a running mean (the machine's load changes)
+        previous = measured if self.s_per_row is None else self.s_per_row
+        self.s_per_row = max(measured, 0.7 * previous + 0.3 * measured)
+        if bottom < height:
+            self._next_row = bottom
+            return
+        self._front, self._back = self._back, self._front
+        self._shown, self._next_row = True, None
+
+    def delete(self) -> None:
+        """Free the buffers (a current context needed)."""
+        for buffer in (self._front, self._back):
+            if buffer is not None:
+                buffer.delete()
+        self._front = self._back = None
+        self._shown = False
