@@ -1,9 +1,25 @@
-"""A shown OpenGL viewport for the GL test modules (their ``gl_context`` fixture is in
-conftest.py); import after the module has called ``install_default_format()`` and
-skipped itself when ``no_display_reason()`` says no context can be made.
+"""What the OpenGL test modules share (their ``gl_context`` fixture is in conftest.py):
+:func:`require_gl`, called at the top of each, and a shown viewport.
 """
 
 from __future__ import annotations
+
+import pytest
+
+
+def require_gl() -> None:
+    """Skip the calling module, with the reason, unless PySide6's OpenGL widgets, PyOpenGL,
+    pytest-qt and an OpenGL 3.3 core context are all there; else set the default surface
+    format, which must happen before pytest-qt creates the QApplication."""
+    pytest.importorskip("PySide6.QtOpenGLWidgets", reason="PySide6 (extra 'gui') not installed")
+    pytest.importorskip("OpenGL.GL", reason="PyOpenGL (extra 'gui') not installed")
+    pytest.importorskip("pytestqt", reason="pytest-qt (extra 'test') not installed")
+    from matshop.viewport.gl.context import install_default_format, no_display_reason
+
+    install_default_format()
+    reason = no_display_reason()
+    if reason is not None:
+        pytest.skip(reason, allow_module_level=True)
 
 
 def shown_viewport(qtbot, size: int):

@@ -29,11 +29,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gl_testing import require_gl
 
-pytest.importorskip("PySide6.QtOpenGLWidgets", reason="PySide6 (extra 'gui') not installed")
-pytest.importorskip("OpenGL.GL", reason="PyOpenGL (extra 'gui') not installed")
-pytest.importorskip("pytestqt")
+require_gl()  # skips the module, saying why, without pytest-qt or an OpenGL 3.3 context
 
+from gl_testing import swatch_rows  # noqa: E402
 from lighting_truth import (  # noqa: E402
     Spot,
     artists_hdr,
@@ -42,14 +42,6 @@ from lighting_truth import (  # noqa: E402
     white_lambertian_set,
     write_image,
 )
-
-from matshop.viewport.gl.context import install_default_format, no_display_reason  # noqa: E402
-
-if no_display_reason():
-    pytest.skip(no_display_reason(), allow_module_level=True)
-install_default_format()
-
-from gl_testing import swatch_rows  # noqa: E402
 
 from matshop.app.testing import Heartbeat, shown_window, spin  # noqa: E402
 

@@ -17,23 +17,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gl_testing import require_gl, swatch_rows  # noqa: E402
 
-pytest.importorskip("PySide6")
-pytest.importorskip("pytestqt")
-pytest.importorskip("OpenGL")
+require_gl()  # skips the module, saying why, without pytest-qt or an OpenGL 3.3 context
 
-from gl_testing import swatch_rows  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 
 from matshop.app.lit_gl import COARSE_BUDGETS_S  # noqa: E402
 from matshop.app.testing import Heartbeat, drag, shown_window  # noqa: E402
 from matshop.render.integrator import DirectionalLight  # noqa: E402
 from matshop.render.render import render  # noqa: E402
-from matshop.viewport.gl.context import install_default_format, no_display_reason  # noqa: E402
-
-if no_display_reason():
-    pytest.skip(no_display_reason(), allow_module_level=True)
-install_default_format()
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "resources" / "sample"

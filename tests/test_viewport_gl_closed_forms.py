@@ -22,15 +22,9 @@ import math
 
 import numpy as np
 import pytest
+from gl_testing import require_gl
 
-pytest.importorskip("PySide6.QtOpenGLWidgets", reason="PySide6 (extra 'gui') not installed")
-pytest.importorskip("OpenGL.GL", reason="PyOpenGL (extra 'gui') not installed")
-
-from matshop.viewport.gl.context import install_default_format, no_display_reason  # noqa: E402
-
-install_default_format()  # before pytest-qt creates the QApplication
-if no_display_reason() is not None:
-    pytest.skip(no_display_reason(), allow_module_level=True)
+require_gl()  # skips the module, saying why, without pytest-qt or an OpenGL 3.3 context
 
 from gl_testing import release, shown_viewport  # noqa: E402
 from oracle import srgb_encode as srgb  # noqa: E402

@@ -18,19 +18,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gl_testing import require_gl
 
-pytest.importorskip("PySide6.QtOpenGLWidgets", reason="PySide6 (extra 'gui') not installed")
-pytest.importorskip("OpenGL.GL", reason="PyOpenGL (extra 'gui') not installed")
-
-from matshop.viewport.gl.context import (  # noqa: E402
-    install_default_format,
-    no_display_reason,
-)
-
-install_default_format()
-
-if no_display_reason() is not None:  # before pytest-qt starts Qt
-    pytest.skip(no_display_reason(), allow_module_level=True)
+require_gl()  # skips the module, saying why, without pytest-qt or an OpenGL 3.3 context
 
 from gl_testing import release, shown_viewport  # noqa: E402
 
