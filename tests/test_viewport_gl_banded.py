@@ -2,7 +2,9 @@
 (``viewport.gl.banded_frame``), and nothing of that shows: every paint leaves the last
 whole picture in the widget's framebuffer (never a frame half old, half new), and the
 finished frame is, pixel for pixel, the frame drawn whole in one go offscreen
-(``render_image``). A grab waits for the whole frame.
+(``render_image``). A change while a frame is drawn (a drag going on) does not restart
+it: that frame is finished with the view it began with, then the latest view is drawn.
+A grab waits for the whole frame.
 
 Bands are forced here with a zero budget (one row a paint after the first band), so
 the test does not depend on how fast this machine's OpenGL is. Run under
@@ -103,3 +105,32 @@ def test_a_grab_draws_the_rest_of_the_frame(viewport, qtbot) -> None:
     grabbed = rows[:, : 3 * VIEW].reshape(VIEW, VIEW, 3)
     assert not viewport.drawing
     assert np.array_equal(grabbed, whole(viewport))
+
+
+def test_a_change_during_a_frame_is_drawn_by_the_next_one(viewport, qtbot) -> None:
+    import copy
+
+    before = whole(viewport)
+    viewport.frames.budget_s = 0.0
+    viewport.camera.orbit(35.0, 0.0)
+    first_camera = copy.deepcopy(viewport.camera)
+    viewport.update()
+    painted = len(viewport.shown)
+    viewport.repaint()  # the first band of the frame of the first turn
+    viewport.camera.orbit(35.0, 0.0)  # a drag goes on while that frame is drawn
+    viewport.update()
+    settle(viewport, qtbot)
+    second = whole(viewport)
+    viewport.camera, live = first_camera, viewport.camera
+    first = whole(viewport)
+    viewport.camera = live
+    frames = viewport.shown[painted:]
+    kinds = [
+        next((k for k, image in enumerate((before, first, second)) if np.array_equal(f, image)), -1)
+        for f in frames
+    ]
+    counts = [kinds.count(k) for k in (0, 1, 2, -1)]
+    print(f"{len(frames)} paints show old, first, second, other: {counts}")
+    assert -1 not in kinds  # no paint shows a mix of two views
+    assert kinds == sorted(kinds) and kinds[-1] == 2  # in order, ending on the latest view
+    assert 1 in kinds  # the first turn's frame was finished and shown, not dropped

@@ -8,6 +8,10 @@ a frame in bands of rows over several paints, each band sized by the speed the
 previous band measured, into a back buffer; the front buffer holds the last whole
 frame and is what the widget shows meanwhile, so the picture never tears. A frame
 that fits the budget is one band: the only cost is one copy.
+
+A change while a frame is being drawn does not restart it (a drag's stream of
+changes would starve the view): the frame finishes, with the state it began with,
+and the next one starts at once.
 """
 
 from __future__ import annotations
@@ -32,29 +36,50 @@ class BandedFrames:
         self._front: Framebuffer | None = None
         self._back: Framebuffer | None = None
         self._shown = False  # the front buffer holds a whole frame
-        self._next_row: int | None = 0  # the back buffer's next band (None: no frame wanted)
+        self._next_row: int | None = 0  # the back buffer's next band (None: no frame under way)
+        self._requested = False  # a change came while a frame was under way
 
     @property
     def drawing(self) -> bool:
-        """A frame is under way: paint again to draw its next band."""
-        return self._next_row is not None
+        """A frame is under way or due: paint again to draw its next band."""
+        return self._next_row is not None or self._requested
 
-    def restart(self) -> None:
-        """The picture changed: draw a new frame (the current whole one stays shown)."""
-        self._next_row = 0
+    def request(self) -> None:
+        """The picture changed: a new frame, now or once the one under way is whole."""
+        if self._next_row is None:
+            self._next_row = 0
+        else:
+            self._requested = True
 
     def paint(
-        self, target: int, width: int, height: int, draw: Callable[[], None], *, whole: bool = False
+        self,
+        target: int,
+        width: int,
+        height: int,
+        begin: Callable[[], None],
+        draw: Callable[[], None],
+        *,
+        whole: bool = False,
     ) -> None:
         """Draw the next band with ``draw`` (which draws a whole ``width x height`` frame into
         the bound framebuffer; the scissor keeps the band) and show the last whole frame in
-        framebuffer ``target``. ``whole``: draw the rest of the frame now (a grab)."""
+        framebuffer ``target``. ``begin`` is called before a frame's first band (to fix the
+        state the frame shows). ``whole``: draw the rest of the frame, and the one due after
+        it, now (a grab)."""
         if self._back is None or (self._back.width, self._back.height) != (width, height):
             self.delete()
             self._front, self._back = Framebuffer(width, height), Framebuffer(width, height)
-            self._shown, self._next_row = False, 0
-        if self._next_row is not None:
+            self._shown, self._next_row, self._requested = False, 0, False
+        while True:
+            if self._next_row is None and self._requested:
+                self._next_row, self._requested = 0, False
+            if self._next_row is None:
+                break
+            if self._next_row == 0:
+                begin()
             self._draw_band(width, height, draw, whole)
+            if not whole:
+                break
         GL.glBindFramebuffer(GL.GL_DRAW_FRAMEBUFFER, target)
         GL.glViewport(0, 0, width, height)
         if not self._shown:  # nothing whole yet: the background colour, not a torn frame

@@ -61,11 +61,11 @@ class MaterialViewport(QOpenGLWidget):
         #: the frame drawn in bands within FRAME_BUDGET_S a paint (:mod:`.banded_frame`)
         self.frames = BandedFrames(FRAME_BUDGET_S)
         self._grab = False
-        self._frame_saw_loading = False
         # per widget, so it holds even if the QApplication predates install_default_format
         self.setFormat(surface_format())
         self.camera = OrbitCamera()
         self.lighting = Lighting()
+        self._frame_view: tuple[OrbitCamera, Lighting] = (self.camera, self.lighting)
         self.renderer: MaterialRenderer | None = None
         self.doc = None
         self._mesh: MeshData = uv_sphere()
@@ -228,11 +228,11 @@ class MaterialViewport(QOpenGLWidget):
         self._stale_content = True
 
     def update(self) -> None:  # noqa: D102 - every change of the picture comes through here
-        self.frames.restart()
+        self.frames.request()
         super().update()
 
     def _next_band(self) -> None:
-        super().update()  # the same frame goes on
+        super().update()  # the frame under way goes on
 
     def grabFramebuffer(self) -> QImage:  # noqa: N802, D102 - Qt's name; a grab shows it whole
         self._grab = True
@@ -241,25 +241,30 @@ class MaterialViewport(QOpenGLWidget):
         finally:
             self._grab = False
 
+    def _begin_frame(self) -> None:
+        # every band of a frame shows the view it began with (a drag goes on meanwhile)
+        self._frame_view = (copy.deepcopy(self.camera), copy.copy(self.lighting))
+
+    def _draw_band(self, width: int, height: int) -> None:
+        self.renderer.camera, self.renderer.lighting = self._frame_view
+        self.renderer.draw(width, height)
+
     def paintGL(self) -> None:  # noqa: N802
         self._apply()
         width, height = self._pixel_size()
-        # a background upload sends a block with each band: a frame that saw one shows
-        # textures that changed between its bands, so another frame follows it
-        self._frame_saw_loading |= self.renderer.loading
+        loading = self.renderer.loading
+        if loading:  # a background upload sends a block a band: another frame shows them
+            self.frames.request()
         self.frames.paint(
             self.defaultFramebufferObject(),
             width,
             height,
-            lambda: self.renderer.draw(width, height),
+            self._begin_frame,
+            lambda: self._draw_band(width, height),
             whole=self._grab,
         )
         if self.frames.drawing:  # events run between two bands
-            QTimer.singleShot(0, self._next_band)
-        elif self._frame_saw_loading:  # (drawing from now: the next frame is due)
-            self._frame_saw_loading = False
-            self.frames.restart()
-            QTimer.singleShot(LOADING_FRAME_MS, self._next_band)
+            QTimer.singleShot(LOADING_FRAME_MS if loading else 0, self._next_band)
 
     def _on_dirty(self, region: DirtyRegion) -> None:
         if self.renderer is not None:
