@@ -15,6 +15,7 @@ import os
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import numpy as np
@@ -84,8 +85,14 @@ def open_sample(win, qtbot):
 def shot(win, name: str) -> Path:
     from PySide6.QtWidgets import QApplication
 
+    from matshop.app.testing import spin
+
     win.canvas.flush()
     QApplication.processEvents()
+    viewport = win.view3d.viewport
+    end = time.perf_counter() + 60.0
+    while viewport is not None and viewport.drawing and time.perf_counter() < end:
+        spin(5)  # software GL draws a frame in bands: the shot shows the whole one
     SHOTS.mkdir(parents=True, exist_ok=True)
     path = SHOTS / f"{name}.png"
     assert win.grab().save(str(path))

@@ -134,3 +134,21 @@ def test_a_change_during_a_frame_is_drawn_by_the_next_one(viewport, qtbot) -> No
     assert -1 not in kinds  # no paint shows a mix of two views
     assert kinds == sorted(kinds) and kinds[-1] == 2  # in order, ending on the latest view
     assert 1 in kinds  # the first turn's frame was finished and shown, not dropped
+
+
+def test_a_resized_view_shows_its_last_frame_stretched_until_the_new_one_is_whole(
+    viewport, qtbot
+) -> None:
+    import cv2
+
+    before = whole(viewport)
+    viewport.frames.budget_s = 0.0
+    viewport.resize(VIEW + 40, VIEW)
+    painted = len(viewport.shown)
+    settle(viewport, qtbot)
+    frames = viewport.shown[painted:]
+    stretched = cv2.resize(before, (VIEW + 40, VIEW), interpolation=cv2.INTER_LINEAR)
+    assert len(frames) > 2 and frames[0].shape == stretched.shape
+    # the old picture, stretched (GL's and OpenCV's bilinear differ a little at the edges)
+    assert np.abs(frames[0].astype(int) - stretched.astype(int)).mean() < 3.0
+    assert np.array_equal(frames[-1], whole(viewport))

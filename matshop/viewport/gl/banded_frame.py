@@ -7,7 +7,8 @@ one frame would stall the event loop for as long. :class:`BandedFrames` draws su
 a frame in bands of rows over several paints, each band sized by the speed the
 previous band measured, into a back buffer; the front buffer holds the last whole
 frame and is what the widget shows meanwhile, so the picture never tears. A frame
-that fits the budget is one band: the only cost is one copy.
+that fits the budget is one band: the only cost is one copy. A resized view shows
+its last whole frame stretched until the first frame of its new size is whole.
 
 A change while a frame is being drawn does not restart it (a drag's stream of
 changes would starve the view): the frame finishes, with the state it began with,
@@ -33,9 +34,8 @@ class BandedFrames:
     def __init__(self, budget_s: float) -> None:
         self.budget_s = budget_s
         self.s_per_row: float | None = None
-        self._front: Framebuffer | None = None
-        self._back: Framebuffer | None = None
-        self._shown = False  # the front buffer holds a whole frame
+        self._front: Framebuffer | None = None  # the last whole frame (of any size)
+        self._back: Framebuffer | None = None  # the frame under way (of the view's size)
         self._next_row: int | None = 0  # the back buffer's next band (None: no frame under way)
         self._requested = False  # a change came while a frame was under way
 
@@ -67,9 +67,10 @@ class BandedFrames:
         state the frame shows). ``whole``: draw the rest of the frame, and the one due after
         it, now (a grab)."""
         if self._back is None or (self._back.width, self._back.height) != (width, height):
-            self.delete()
-            self._front, self._back = Framebuffer(width, height), Framebuffer(width, height)
-            self._shown, self._next_row, self._requested = False, 0, False
+            if self._back is not None:  # resized: the old whole frame is shown stretched
+                self._back.delete()
+            self._back = Framebuffer(width, height)
+            self._next_row, self._requested = 0, False
         while True:
             if self._next_row is None and self._requested:
                 self._next_row, self._requested = 0, False
@@ -82,13 +83,24 @@ class BandedFrames:
                 break
         GL.glBindFramebuffer(GL.GL_DRAW_FRAMEBUFFER, target)
         GL.glViewport(0, 0, width, height)
-        if not self._shown:  # nothing whole yet: the background colour, not a torn frame
+        front = self._front
+        if front is None:  # nothing whole yet: the background colour, not a torn frame
             GL.glClearColor(0.0, 0.0, 0.0, 1.0)
             GL.glClear(GL.GL_COLOR_BUFFER_BIT)
             return
-        GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, self._front.id)
+        same = (front.width, front.height) == (width, height)
+        GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, front.id)
         GL.glBlitFramebuffer(
-            0, 0, width, height, 0, 0, width, height, GL.GL_COLOR_BUFFER_BIT, GL.GL_NEAREST
+            0,
+            0,
+            front.width,
+            front.height,
+            0,
+            0,
+            width,
+            height,
+            GL.GL_COLOR_BUFFER_BIT,
+            GL.GL_NEAREST if same else GL.GL_LINEAR,
         )
         GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, target)
 
@@ -118,8 +130,13 @@ class BandedFrames:
         if bottom < height:
             self._next_row = bottom
             return
-        self._front, self._back = self._back, self._front
-        self._shown, self._next_row = True, None
+        old_front, self._front, self._next_row = self._front, self._back, None
+        if old_front is not None and (old_front.width, old_front.height) == (width, height):
+            self._back = old_front  # the next frame is drawn into it
+        else:
+            if old_front is not None:
+                old_front.delete()
+            self._back = Framebuffer(width, height)
 
     def delete(self) -> None:
         """Free the buffers (a current context needed)."""
@@ -127,4 +144,3 @@ class BandedFrames:
             if buffer is not None:
                 buffer.delete()
         self._front = self._back = None
-        self._shown = False
