@@ -31,7 +31,8 @@ from typing import Literal
 import numpy as np
 from numba import get_num_threads, njit, prange
 
-from ._kernels import _PIO2_1, _PIO2_1T, atan2_upper, cos_small, sin_small
+from ._kernels import _PIO2_1, _PIO2_1T, cos_small, sin_small
+from ._pchip import eval_pieces, find_intervals, pchip_pieces
 
 YGrid = Literal["cosine", "uniform"]
 Coord = Literal["x", "sin2", "square"]
@@ -72,106 +73,6 @@ def y_grid(n: int, kind: YGrid = "cosine") -> tuple[np.ndarray, np.ndarray]:
     return y, dy
 
 
-# --------------------------------------------------------------------------- PCHIP
-
-
-@njit(cache=True, nogil=True)
-def _edge_slope(h0, h1, m0, m1):
-    """scipy's one-sided three-point end-point derivative (Moler, pchiptx)."""
-    d = ((2.0 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
-    if np.sign(d) != np.sign(m0):
-        return 0.0
-    if np.sign(m0) != np.sign(m1) and abs(d) > 3.0 * abs(m0):
-        return 3.0 * m0
-    return d
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _pchip_slopes(x, y, n, dk, m):
-    """Derivatives at the first ``n`` knots into ``dk`` (scipy PchipInterpolator rules).
-
-    ``m`` is scratch (at least ``n - 1``) for the secant slopes. Written as
-    loops with no value carried from one knot to the next and no branch (a
-    select picks zero or the weighted harmonic mean), so LLVM vectorises them
-    and their divisions; each knot's arithmetic is the textbook formula's in
-    the same order, so the bits are the same as a plain loop's.
-    """
-    for i in range(n - 1):
-        m[i] = (y[i + 1] - y[i]) / (x[i + 1] - x[i])
-    if n == 2:
-        dk[0] = m[0]
-        dk[1] = m[0]
-        return
-    for i in range(1, n - 1):
-        h_prev = x[i] - x[i - 1]
-        h = x[i + 1] - x[i]
-        w1 = 2.0 * h + h_prev
-        w2 = h + 2.0 * h_prev
-        # zero at a local extremum or a flat side (and for NaN): same sign or nothing
-        same = ((m[i] > 0.0) & (m[i - 1] > 0.0)) | ((m[i] < 0.0) & (m[i - 1] < 0.0))
-        harmonic = (w1 + w2) / (w1 / m[i - 1] + w2 / m[i])
-        dk[i] = harmonic if same else 0.0
-    h0 = x[1] - x[0]
-    h1 = x[2] - x[1]
-    dk[0] = _edge_slope(h0, h1, (y[1] - y[0]) / h0, (y[2] - y[1]) / h1)
-    h0 = x[n - 1] - x[n - 2]
-    h1 = x[n - 2] - x[n - 3]
-    dk[n - 1] = _edge_slope(h0, h1, (y[n - 1] - y[n - 2]) / h0, (y[n - 2] - y[n - 3]) / h1)
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _pchip_eval_sorted(x, y, dk, n, xq, out, index):
-    """Evaluate the Hermite cubic at increasing ``xq`` by a merge walk.
-
-    Queries outside ``[x[0], x[n-1]]`` are extrapolated with the end cubic,
-    like scipy's default ``extrapolate=True``. ``index`` is integer scratch
-    (``len(xq)``): the walk only finds each query's interval, the evaluation
-    runs as a separate loop whose divisions no branch holds up.
-    """
-    i = 0
-    for j in range(xq.shape[0]):
-        t_x = xq[j]
-        while i < n - 2 and t_x > x[i + 1]:
-            i += 1
-        index[j] = i
-    for j in range(xq.shape[0]):
-        i = index[j]
-        h = x[i + 1] - x[i]
-        t = (xq[j] - x[i]) / h
-        t2 = t * t
-        t3 = t2 * t
-        h00 = 2.0 * t3 - 3.0 * t2 + 1.0
-        h10 = t3 - 2.0 * t2 + t
-        h01 = -2.0 * t3 + 3.0 * t2
-        h11 = t3 - t2
-        out[j] = h00 * y[i] + h10 * h * dk[i] + h01 * y[i + 1] + h11 * h * dk[i + 1]
-
-
-@njit(cache=True, nogil=True)
-def _pchip_kernel(x, y, xq, out):
-    n = x.shape[0]
-    dk = np.empty(n)
-    _pchip_slopes(x, y, n, dk, np.empty(n))
-    _pchip_eval_sorted(x, y, dk, n, xq, out, np.empty(xq.shape[0], dtype=np.int64))
-
-
-def pchip(x: np.ndarray, y: np.ndarray, xq: np.ndarray) -> np.ndarray:
-    """The numba PCHIP on one curve: knots ``x`` strictly increasing, queries ``xq`` sorted.
-
-    Exposed for tests (it must agree with ``scipy.interpolate.PchipInterpolator``).
-    """
-    x = np.ascontiguousarray(x, dtype=np.float64)
-    y = np.ascontiguousarray(y, dtype=np.float64)
-    xq = np.ascontiguousarray(xq, dtype=np.float64)
-    if x.ndim != 1 or x.shape != y.shape or x.shape[0] < 2:
-        raise ValueError("pchip: x and y must be 1-D of the same length >= 2")
-    if np.any(np.diff(x) <= 0) or np.any(np.diff(xq) < 0):
-        raise ValueError("pchip: x must be strictly increasing and xq sorted")
-    out = np.empty(xq.shape[0])
-    _pchip_kernel(x, y, xq, out)
-    return out
-
-
 # --------------------------------------------------------------------------- row kernels
 
 #: Interpolation coordinates ``u(x)``: the PCHIP runs between ``c`` and ``u``.
@@ -183,10 +84,54 @@ def pchip(x: np.ndarray, y: np.ndarray, xq: np.ndarray) -> np.ndarray:
 COORDS = {"x": 0, "sin2": 1, "square": 2}
 
 
-# sin and asin below come from the branch-free float64 helpers of ._kernels
-# (about 1e-15 and 1e-11 relative), not libm: they vectorise, a libm call
-# per value does not (and cost a quarter of each conversion). numba's cache
-# does not see edits there: clear this module's cache after changing them.
+# sin below comes from the branch-free float64 helpers of ._kernels (about
+# 1e-15 relative) and asin from a polynomial here, not libm: they vectorise, a
+# libm call per value does not. numba's cache does not see edits in ._kernels
+# or ._pchip: clear this module's cache after changing them.
+
+# asin(sqrt(w)) / sqrt(w) for w in [0, 1/2], a polynomial in t = 4 w - 1: the
+# degree-12 Chebyshev interpolant (mpmath values), relative error 1.2e-12
+_ASIN_SQRT_0 = 1.0471975511967635
+_ASIN_SQRT_1 = 0.05375149357738585
+_ASIN_SQRT_2 = 0.007798902222872402
+_ASIN_SQRT_3 = 0.0015196689264759657
+_ASIN_SQRT_4 = 0.0003408639785892685
+_ASIN_SQRT_5 = 8.302012109931382e-05
+_ASIN_SQRT_6 = 2.134404177223403e-05
+_ASIN_SQRT_7 = 5.712071669519685e-06
+_ASIN_SQRT_8 = 1.571194861030178e-06
+_ASIN_SQRT_9 = 4.235680878770447e-07
+_ASIN_SQRT_10 = 1.1983761072925678e-07
+_ASIN_SQRT_11 = 4.900394873044276e-08
+_ASIN_SQRT_12 = 1.479715353745806e-08
+
+
+@njit(inline="always", error_model="numpy", nogil=True)
+def asin_sqrt(u):
+    """``asin(sqrt(u))`` for ``0 <= u <= 1`` with one square root and no division.
+
+    ``sqrt(u) P(u)`` up to 1/2, ``pi/2 - sqrt(1 - u) P(1 - u)`` above (where
+    ``1 - u`` is exact); ``atan2(sqrt(u), sqrt(1 - u))`` took two roots and a
+    division, the largest cost of the sampled space's ``to_edit`` after the PCHIP.
+    """
+    above = u > 0.5
+    w = 1.0 - u if above else u
+    t = 4.0 * w - 1.0
+    p = _ASIN_SQRT_12
+    p = p * t + _ASIN_SQRT_11
+    p = p * t + _ASIN_SQRT_10
+    p = p * t + _ASIN_SQRT_9
+    p = p * t + _ASIN_SQRT_8
+    p = p * t + _ASIN_SQRT_7
+    p = p * t + _ASIN_SQRT_6
+    p = p * t + _ASIN_SQRT_5
+    p = p * t + _ASIN_SQRT_4
+    p = p * t + _ASIN_SQRT_3
+    p = p * t + _ASIN_SQRT_2
+    p = p * t + _ASIN_SQRT_1
+    p = p * t + _ASIN_SQRT_0
+    r = np.sqrt(w) * p
+    return (_PIO2_1 - r) + _PIO2_1T if above else r
 
 
 @njit(inline="always", error_model="numpy", nogil=True)
@@ -196,79 +141,164 @@ def _sin_quarter(x):
     return sin_small(x, x * x) if x <= 0.25 * np.pi else cos_small(r * r)
 
 
-@njit(inline="always", error_model="numpy", nogil=True)
-def _u_of_x(x, coord):
-    """``u(x)`` for ``x`` in the domain (``[0, pi/2]`` for "sin2")."""
-    if coord == 1:
-        s = _sin_quarter(x)
-        return s * s
-    if coord == 2:
-        return x * x
-    return x
+# u(x) and its inverse branch on the coordinate once, outside the loop over a
+# row: a branch inside keeps LLVM from vectorising it (measured 4x slower).
 
 
 @njit(inline="always", error_model="numpy", nogil=True)
-def _x_of_u(u, coord, lo, hi):
-    """The inverse of :func:`_u_of_x`, clamped to ``[lo, hi]`` (asin(sqrt(u)) for "sin2")."""
+def _to_u(v, n, coord):
+    """``v[k] = u(v[k])`` for ``k < n``, ``v`` in the domain (``[0, pi/2]`` for "sin2")."""
     if coord == 1:
-        c = min(max(u, 0.0), 1.0)
-        x = atan2_upper(np.sqrt(c), np.sqrt(1.0 - c))
+        for k in range(n):
+            s = _sin_quarter(v[k])
+            v[k] = s * s
     elif coord == 2:
-        x = np.sqrt(max(u, 0.0))
+        for k in range(n):
+            v[k] = v[k] * v[k]
+
+
+@njit(inline="always", error_model="numpy", nogil=True)
+def _store_x(u, coord, lo, hi, out):
+    """``out[j] = x(u[j])``, the inverse of ``u(x)`` clamped to ``[lo, hi]``."""
+    if coord == 1:
+        for j in range(out.shape[0]):
+            out[j] = min(max(asin_sqrt(min(max(u[j], 0.0), 1.0)), lo), hi)
+    elif coord == 2:
+        for j in range(out.shape[0]):
+            out[j] = min(max(np.sqrt(max(u[j], 0.0)), lo), hi)
     else:
-        x = u
-    return min(max(x, lo), hi)
+        for j in range(out.shape[0]):
+            out[j] = min(max(u[j], lo), hi)
+
+
+# A running sum or maximum along a row is one chain of dependent operations
+# (about 4 cycles each); four chains over the row's quarters, joined after,
+# keep the core busy. The maximum is exact in any order; the sum rounds in a
+# different order than a left-to-right sum (a few float64 ulps).
+
+
+@njit(inline="always", error_model="numpy", nogil=True)
+def _running_sum(v, n, out):
+    """``out[0] = 0``, ``out[k + 1] = v[0] + ... + v[k]`` for ``k < n``."""
+    q = n // 4
+    s0 = s1 = s2 = s3 = 0.0
+    out[0] = 0.0
+    for k in range(q):
+        s0 += v[k]
+        out[k + 1] = s0
+        s1 += v[q + k]
+        out[q + k + 1] = s1
+        s2 += v[2 * q + k]
+        out[2 * q + k + 1] = s2
+        s3 += v[3 * q + k]
+        out[3 * q + k + 1] = s3
+    for k in range(4 * q, n):
+        s3 += v[k]
+        out[k + 1] = s3
+    carry = s0
+    for k in range(q + 1, 2 * q + 1):
+        out[k] += carry
+    carry += s1
+    for k in range(2 * q + 1, 3 * q + 1):
+        out[k] += carry
+    carry += s2
+    for k in range(3 * q + 1, n + 1):
+        out[k] += carry
+
+
+@njit(inline="always", error_model="numpy", nogil=True)
+def _sum(v, n):
+    """``v[0] + ... + v[n - 1]`` in four chains."""
+    q = n // 4
+    s0 = s1 = s2 = s3 = 0.0
+    for k in range(q):
+        s0 += v[k]
+        s1 += v[q + k]
+        s2 += v[2 * q + k]
+        s3 += v[3 * q + k]
+    for k in range(4 * q, n):
+        s3 += v[k]
+    return (s0 + s1) + (s2 + s3)
+
+
+@njit(inline="always", error_model="numpy", nogil=True)
+def _running_max(v, n, start, out):
+    """``out[k] = max(start, v[0], ..., v[k])`` for ``k < n`` (``v`` without NaN)."""
+    q = n // 4
+    m0 = m1 = m2 = m3 = start
+    for k in range(q):
+        m0 = max(m0, v[k])
+        out[k] = m0
+        m1 = max(m1, v[q + k])
+        out[q + k] = m1
+        m2 = max(m2, v[2 * q + k])
+        out[2 * q + k] = m2
+        m3 = max(m3, v[3 * q + k])
+        out[3 * q + k] = m3
+    for k in range(4 * q, n):
+        m3 = max(m3, v[k])
+        out[k] = m3
+    carry = m0
+    for k in range(q, 2 * q):
+        out[k] = max(out[k], carry)
+    carry = max(carry, m1)
+    for k in range(2 * q, 3 * q):
+        out[k] = max(out[k], carry)
+    carry = max(carry, m2)
+    for k in range(3 * q, n):
+        out[k] = max(out[k], carry)
 
 
 @njit(cache=True, parallel=True, nogil=True, error_model="numpy")
 def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
     rows, nb = pdf.shape
     nk = nb + 1
+    m = y.shape[0]
     lo = edges[0]
     hi = edges[nb]
-    ue = np.empty(nk)
+    ue = edges.copy()
+    _to_u(ue, nk, coord)
+    inv_due = np.empty(nk)
+    for k in range(nb):
+        inv_due[k] = 1.0 / (ue[k + 1] - ue[k])
+    ramp = np.empty(nk)
     for k in range(nk):
-        ue[k] = _u_of_x(edges[k], coord)
+        ramp[k] = _KNOT_EPS * k / (nk - 1)
+    # a row without mass reads as the density constant over the measure
+    flat = np.empty(nk)
+    _running_sum(weights, nb, flat)
     # rows are independent: blocks of rows run in parallel, each with its own scratch
     for block in prange(n_blocks):
+        mass = np.empty(nb)
         cdf = np.empty(nk)
+        inv_h = np.empty(nk)
+        a = np.empty(nk)
+        b = np.empty(nk)
+        c = np.empty(nk)
         dk = np.empty(nk)
-        secant = np.empty(nk)
-        uq = np.empty(y.shape[0])
-        index = np.empty(y.shape[0], dtype=np.int64)
+        uq = np.empty(m)
+        index = np.empty(m, dtype=np.int64)
         for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
-            acc = 0.0
-            cdf[0] = 0.0
             for k in range(nb):
                 v = np.float64(pdf[p, k])
                 # negative and non-finite densities carry no mass
-                if not (v > 0.0) or v == np.inf:
-                    v = 0.0
-                acc += v * weights[k]
-                cdf[k + 1] = acc
-            total[p] = acc
-            if acc > 0.0:
-                for k in range(nk):
-                    cdf[k] /= acc
-            else:
-                # no mass: fall back to a density constant over the measure
-                s = 0.0
-                for k in range(nb):
-                    s += weights[k]
-                    cdf[k + 1] = s
-                for k in range(nk):
-                    cdf[k] /= s
-            cdf[nk - 1] = 1.0
+                mass[k] = v * weights[k] if (v > 0.0) & (v < np.inf) else 0.0
+            _running_sum(mass, nb, cdf)
+            total[p] = cdf[nb]
+            src = cdf if cdf[nb] > 0.0 else flat
+            # normalised, blended with the ramp that keeps flat stretches invertible
+            scale = (1.0 - _KNOT_EPS) / src[nb]
             for k in range(nk):
-                cdf[k] = (1.0 - _KNOT_EPS) * cdf[k] + _KNOT_EPS * k / (nk - 1)
-            _pchip_slopes(cdf, ue, nk, dk, secant)
-            _pchip_eval_sorted(cdf, ue, dk, nk, y, uq, index)
-            for j in range(y.shape[0]):
-                out[p, j] = _x_of_u(uq[j], coord, lo, hi)
+                cdf[k] = src[k] * scale + ramp[k]
+            cdf[nb] = (1.0 - _KNOT_EPS) + _KNOT_EPS
+            pchip_pieces(cdf, ue, inv_due, nk, inv_h, a, b, c, dk)
+            find_intervals(cdf, nk, y, index)
+            eval_pieces(cdf, ue, inv_h, a, b, c, y, index, uq)
+            _store_x(uq, coord, lo, hi, out[p])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _domain_knots(q_row, y, lo, hi, coord, us, ys):
+def _domain_knots(q_row, y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy):
     """Knots ``(u, y)`` of one row's CDF inside ``[lo, hi]``; returns their count.
 
     NaN repeats the previous quantile, a running maximum (from ``lo``) makes the
@@ -278,43 +308,46 @@ def _domain_knots(q_row, y, lo, hi, coord, us, ys):
     between the last level inside and the first outside) ends the CDF, and the
     levels are divided by it, so what remains is renormalised instead of being
     folded into the last bin (MATH.md "Widening past the domain").
+    ``inv_dy`` gets the reciprocal level steps: ``inv_dlevel`` (those of
+    ``0, y_0, ..., y_{m-1}, 1``) scaled by the cut. ``vals`` is scratch.
     """
     m = y.shape[0]
     edge_tol = _EDGE_TOL * (hi - lo)
-    us[0] = lo
-    ys[0] = 0.0
-    prev = lo
-    prev_y = 0.0
-    y_cut = 1.0
-    n = 1
     for j in range(m):
         v = np.float64(q_row[j])
-        # float32 rounding of the edge itself (pi/2 stored as float32) is the edge; this
-        # clamp is monotone and idempotent, so clamping before the running maximum gives
-        # what clamping after it gave, and the only chain from texel to texel is the max
+        # float32 rounding of the edge itself (pi/2 stored as float32) is the edge
         v = hi if (v > hi) & (v <= hi + edge_tol) else v
-        v = -np.inf if v != v else v  # NaN repeats the previous quantile
-        v = max(v, prev)
-        if v > hi:
-            t = (hi - prev) / (v - prev) if v < np.inf else 0.0
-            y_cut = prev_y + t * (y[j] - prev_y)
-            break
-        us[n] = v  # u(v) below, in a loop that vectorises
-        ys[n] = y[j]
-        n += 1
-        prev = v
-        prev_y = y[j]
-    us[n] = hi
-    ys[n] = y_cut
-    n += 1
-    for k in range(n):
-        us[k] = _u_of_x(us[k], coord)
+        vals[j] = -np.inf if v != v else v  # NaN repeats the previous quantile
+    us[0] = lo
+    _running_max(vals, m, lo, us[1:])
+    inside = 0  # the maximum is monotone: the levels inside come first
+    for j in range(m):
+        inside += us[1 + j] <= hi
+    y_cut = 1.0
+    if inside < m:
+        prev = us[inside]
+        prev_y = y[inside - 1] if inside > 0 else 0.0
+        v = us[inside + 1]
+        t = (hi - prev) / (v - prev) if v < np.inf else 0.0
+        y_cut = prev_y + t * (y[inside] - prev_y)
+    n = inside + 2
+    us[n - 1] = hi
+    ys[0] = 0.0
+    for j in range(inside):
+        ys[1 + j] = y[j]
+    ys[n - 1] = y_cut
+    _to_u(us, n, coord)
     if not (y_cut > _MIN_KEPT):
         # (almost) everything left the domain: what remains has no shape to keep,
         # read it as the density constant over the measure
         us[1] = us[n - 1]
         ys[1] = 1.0
+        inv_dy[0] = 1.0
         return 2
+    for j in range(inside):
+        inv_dy[j] = inv_dlevel[j] * y_cut
+    last_y = y[inside - 1] if inside > 0 else 0.0
+    inv_dy[inside] = y_cut / (y_cut - last_y)
     if y_cut != 1.0:  # the common case divides by one: skip it
         for k in range(n):
             ys[k] /= y_cut
@@ -327,37 +360,48 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
     nb = weights.shape[0]
     lo = edges[0]
     hi = edges[nb]
-    ue = np.empty(nb + 1)
-    for k in range(nb + 1):
-        ue[k] = _u_of_x(edges[k], coord)
+    ue = edges.copy()
+    _to_u(ue, nb + 1, coord)
     u_lo = ue[0]
     u_span = ue[nb] - ue[0]
+    inv_w = np.empty(nb)
+    for k in range(nb):
+        inv_w[k] = 1.0 / weights[k]
+    inv_dlevel = np.empty(m + 1)
+    inv_dlevel[0] = 1.0 / y[0]
+    for j in range(1, m):
+        inv_dlevel[j] = 1.0 / (y[j] - y[j - 1])
+    inv_dlevel[m] = 1.0 / (1.0 - y[m - 1])
     for block in prange(n_blocks):
+        vals = np.empty(m)
         us = np.empty(m + 2)
         ys = np.empty(m + 2)
+        inv_dy = np.empty(m + 2)
+        inv_h = np.empty(m + 2)
+        a = np.empty(m + 2)
+        b = np.empty(m + 2)
+        c = np.empty(m + 2)
         dk = np.empty(m + 2)
-        secant = np.empty(m + 2)
         cdf = np.empty(nb + 1)
+        mass = np.empty(nb)
         index = np.empty(nb + 1, dtype=np.int64)
         for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
-            nk = _domain_knots(q[p], y, lo, hi, coord, us, ys)
+            nk = _domain_knots(q[p], y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy)
+            step = u_span / (nk - 1)
             for k in range(nk):
-                ramp = u_lo + u_span * k / (nk - 1)
-                us[k] = (1.0 - _KNOT_EPS) * us[k] + _KNOT_EPS * ramp
-            _pchip_slopes(us, ys, nk, dk, secant)
-            _pchip_eval_sorted(us, ys, dk, nk, ue, cdf, index)
+                us[k] = (1.0 - _KNOT_EPS) * us[k] + _KNOT_EPS * (u_lo + step * k)
+            pchip_pieces(us, ys, inv_dy, nk, inv_h, a, b, c, dk)
+            find_intervals(us, nk, ue, index)
+            eval_pieces(us, ys, inv_h, a, b, c, ue, index, cdf)
             # PCHIP is monotone and hits the anchors; clamp against round-off anyway
             cdf[0] = 0.0
             cdf[nb] = 1.0
-            acc = 0.0
             for k in range(nb):
-                mass = cdf[k + 1] - cdf[k]
-                if not (mass > 0.0):
-                    mass = 0.0
-                acc += mass
-                cdf[k] = mass
+                step_mass = cdf[k + 1] - cdf[k]
+                mass[k] = step_mass if step_mass > 0.0 else 0.0
+            inv_total = 1.0 / _sum(mass, nb)
             for k in range(nb):
-                out[p, k] = cdf[k] / (acc * weights[k])
+                out[p, k] = mass[k] * inv_w[k] * inv_total
 
 
 def _blocks(rows: int) -> int:
