@@ -277,7 +277,7 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
         c = np.empty(nk)
         dk = np.empty(nk)
         uq = np.empty(m)
-        index = np.empty(m, dtype=np.int64)
+        index = np.empty(m, dtype=np.uint64)
         for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
             for k in range(nb):
                 v = np.float64(pdf[p, k])
@@ -384,7 +384,7 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
         dk = np.empty(m + 2)
         cdf = np.empty(nb + 1)
         mass = np.empty(nb)
-        index = np.empty(nb + 1, dtype=np.int64)
+        index = np.empty(nb + 1, dtype=np.uint64)
         for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
             nk = _domain_knots(q[p], y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy)
             step = u_span / (nk - 1)

@@ -51,23 +51,23 @@ def pchip_pieces(x, y, inv_dy, n, inv_h, a, b, c, dk):
         m = (y[1] - y[0]) * inv_h[0]
         dk[0] = m
         dk[1] = m
-    else:
-        for i in range(1, n - 1):
-            h_prev = x[i] - x[i - 1]
-            h = x[i + 1] - x[i]
-            dy_prev = y[i] - y[i - 1]
-            dy = y[i + 1] - y[i]
-            w1 = 2.0 * h + h_prev
-            w2 = h + 2.0 * h_prev
-            # zero at a local extremum or a flat side (and for NaN): same sign or nothing
-            same = ((dy > 0.0) & (dy_prev > 0.0)) | ((dy < 0.0) & (dy_prev < 0.0))
-            # w1 / m_prev + w2 / m, the reciprocal secants as h / dy
-            denominator = w1 * h_prev * inv_dy[i - 1] + w2 * h * inv_dy[i]
-            denominator = denominator if same else 1.0
-            # one division gives both 1 / h and 1 / denominator
-            r = 1.0 / (h * denominator)
-            inv_h[i] = denominator * r
-            dk[i] = (w1 + w2) * (h * r) if same else 0.0
+    for i in range(1, n - 1):
+        h_prev = x[i] - x[i - 1]
+        h = x[i + 1] - x[i]
+        dy_prev = y[i] - y[i - 1]
+        dy = y[i + 1] - y[i]
+        w1 = 2.0 * h + h_prev
+        w2 = h + 2.0 * h_prev
+        # zero at a local extremum or a flat side (and for NaN): same sign or nothing
+        same = ((dy > 0.0) & (dy_prev > 0.0)) | ((dy < 0.0) & (dy_prev < 0.0))
+        # w1 / m_prev + w2 / m, the reciprocal secants as h / dy
+        denominator = w1 * h_prev * inv_dy[i - 1] + w2 * h * inv_dy[i]
+        denominator = denominator if same else 1.0
+        # one division gives both 1 / h and 1 / denominator
+        r = 1.0 / (h * denominator)
+        inv_h[i] = denominator * r
+        dk[i] = (w1 + w2) * (h * r) if same else 0.0
+    if n > 2:
         h0 = x[1] - x[0]
         h1 = x[2] - x[1]
         dk[0] = _edge_slope(h0, h1, (y[1] - y[0]) / h0, (y[2] - y[1]) / h1)
@@ -86,18 +86,24 @@ def pchip_pieces(x, y, inv_dy, n, inv_h, a, b, c, dk):
         c[i] = start + end - 2.0 * rise
 
 
+# The piece indices are unsigned: numba wraps negative signed indices, and the
+# checks and the registers they take cost the evaluation a third of its time.
+
+
 @njit(**_ROW)
 def find_intervals(x, n, xq, index):
-    """``index[j]``: the piece of ``x[:n]`` holding the sorted query ``xq[j]``.
+    """``index[j]`` (uint64): the piece of ``x[:n]`` holding the sorted query ``xq[j]``.
 
     Queries outside ``[x[0], x[n-1]]`` get the end pieces (extrapolation, like
     scipy's default).
     """
-    i = 0
+    one = np.uint64(1)
+    last = np.uint64(n - 2)
+    i = np.uint64(0)
     for j in range(xq.shape[0]):
         q = xq[j]
-        while i < n - 2 and q > x[i + 1]:
-            i += 1
+        while i < last and q > x[i + one]:
+            i += one
         index[j] = i
 
 
@@ -105,7 +111,7 @@ def find_intervals(x, n, xq, index):
 def eval_pieces(x, y, inv_h, a, b, c, xq, index, out):
     """``out[j]``: the piece ``index[j]`` at ``xq[j]`` (see :func:`pchip_pieces`)."""
     for j in range(xq.shape[0]):
-        i = index[j]
+        i = np.uint64(index[j])
         t = (xq[j] - x[i]) * inv_h[i]
         out[j] = y[i] + t * (a[i] + t * (b[i] + t * c[i]))
 
@@ -118,7 +124,7 @@ def _pchip_kernel(x, y, xq, out):
         inv_dy[i] = 1.0 / (y[i + 1] - y[i])
     inv_h, a, b, c, dk = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     pchip_pieces(x, y, inv_dy, n, inv_h, a, b, c, dk)
-    index = np.empty(xq.shape[0], dtype=np.int64)
+    index = np.empty(xq.shape[0], dtype=np.uint64)
     find_intervals(x, n, xq, index)
     eval_pieces(x, y, inv_h, a, b, c, xq, index, out)
 
