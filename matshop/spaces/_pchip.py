@@ -9,12 +9,15 @@ per-row work vectorises and divides little:
   ``1 / h_i``. One division per knot (``1 / (h D)`` gives both ``1 / h`` and
   the harmonic mean's ``1 / D``), where the textbook formulas take four (the
   secant, two reciprocals of secants, the mean) and a fifth per query
-  (``t``); divisions were half of the row's time. The caller passes
-  ``1 / (y_{i+1} - y_i)``: in the row kernels the ``y`` (or ``x``) steps come
-  from a fixed grid whose reciprocals are computed once per call.
+  (``t``). The caller passes ``1 / (y_{i+1} - y_i)``: in the row kernels the
+  ``y`` steps are a fixed grid's (the bin edges' ``u``, or the levels scaled
+  by the row's cut), so their reciprocals are computed once per call.
 * :func:`find_intervals` walks sorted queries along the knots (the only
   branchy part), :func:`eval_pieces` evaluates with no branch and one
   multiply instead of a division.
+
+Products and sums are fused multiply-adds (``"contract"``): these loops are
+bound by floating-point throughput, and an FMA rounds once instead of twice.
 """
 
 from __future__ import annotations
