@@ -1,32 +1,42 @@
-"""High-dimensional bilateral filter on the permutohedral lattice.
+"""High-dimensional bilateral filter: separable at small spatial sigma, else a lattice.
 
 ``output(x) = sum_y w(x, y) image(y) / sum_y w(x, y)`` with
 ``w = exp(-|p_x - p_y|^2 / (2 sigma_s^2)) * exp(-|g(x) - g(y)|^2 / (2 sigma_r^2))``,
 ``p`` the pixel position and ``g = image * channel_weights`` the range guide
 (optionally reduced to its leading principal components). Every channel is
 filtered with the same weights, so the filter treats the edit vector as one
-point and stays meaningful in every editing space.
-
-The Gaussian in the ``d = 2 + guide`` dimensional feature space is evaluated
-with the permutohedral lattice of Adams, Baek and Davis (2010), see
-:mod:`matshop.ops._permutohedral`. The cost grows with the number of texels,
-with ``d`` and with the number of lattice points the texels occupy: larger
-spatial and range sigmas are *faster* (a sparser lattice), small sigmas and
-noisy, high-dimensional guides slower. Before the lattice is built, the guide
+point and stays meaningful in every editing space. Before filtering, the guide
 is rotated onto its principal axes (which changes no distance) so that
 constant or linearly dependent channels add no dimension.
 
-Accuracy: the lattice approximates the Gaussian (its variance is calibrated,
-its shape is piecewise linear). Against the exact filter with a window
-truncated at 3 sigma, ``tests/test_bilateral.py`` measures 40-50 dB PSNR on
-real material edit values and 50-60 dB on smoother synthetic sets. It is
-lowest when the range noise of the guide exceeds ``sigma_range``, so that
-hardly any neighbour falls inside the range kernel (down to ~35 dB).
+Two evaluations (``method``; ``"auto"`` picks by ``sigma_s``, see
+:data:`SEPARABLE_MAX_SIGMA`):
 
-Borders: the image is processed in tiles, each read with a margin of 2.5
-sigma through the border (wrapped for tiling textures, clamped otherwise).
-Positions are global, so all tiles build pieces of one lattice and do not
-show (the margin truncation is ~85 dB below the signal).
+* ``"separable"`` (:mod:`matshop.ops._separable`, Pham and van Vliet 2005): a
+  1-D bilateral along the rows, then along the columns, both weighted by the
+  original guide, each cut at ``ceil(3 sigma_s)`` texels like the exact
+  reference below. Its cost grows with ``sigma_s`` (the taps) and the channels,
+  barely with the guide's dimension. Exact where the guide varies along one
+  axis only; on oblique edges it counts some neighbours the 2-D kernel would
+  weigh by a path of their own.
+* ``"lattice"``: the Gaussian in the ``d = 2 + guide`` dimensional feature
+  space on the permutohedral lattice of Adams, Baek and Davis (2010), see
+  :mod:`matshop.ops._permutohedral`. Its cost grows with the number of texels,
+  with ``d`` and with the number of lattice points the texels occupy: larger
+  spatial and range sigmas are *faster* (a sparser lattice), small sigmas and
+  noisy, high-dimensional guides slower. Its kernel is Gaussian only
+  approximately (its variance is calibrated, its shape is piecewise linear).
+
+Accuracy against the exact filter with a window truncated at 3 sigma:
+``tests/test_bilateral.py`` measures 40-50 dB PSNR on real material edit values
+and 50-60 dB on smoother synthetic sets, for both. It is lowest when the range
+noise of the guide exceeds ``sigma_range``, so that hardly any neighbour falls
+inside the range kernel (down to ~35 dB).
+
+Borders: both read through the border (wrapped for tiling textures, clamped
+otherwise). The lattice processes the image in tiles, each read with a margin
+of 2.5 sigma; positions are global, so all tiles build pieces of one lattice
+and do not show (the margin truncation is ~85 dB below the signal).
 """
 
 from __future__ import annotations
@@ -39,11 +49,27 @@ import numba
 import numpy as np
 
 from ._permutohedral import filter_tiles, key_primes, locate
+from ._separable import run_separable
 from .spec import OpError
 
-__all__ = ["BORDERS", "Guide", "bilateral_filter", "prepare_guide", "run_lattice"]
+__all__ = [
+    "BORDERS",
+    "METHODS",
+    "SEPARABLE_MAX_SIGMA",
+    "Guide",
+    "bilateral_filter",
+    "prepare_guide",
+    "run_lattice",
+    "run_separable_guided",
+]
 
 BORDERS = ("wrap", "clamp")
+METHODS = ("auto", "separable", "lattice")
+#: ``method="auto"`` filters separably up to this spatial sigma (texels), with the
+#: lattice beyond: the separable filter's cost grows with sigma (its taps), the
+#: lattice's falls (fewer points). Measured on the real 10-channel set, guide
+#: "auto" (3 axes), one thread (``benchmarks/bilateral.py --methods``): FILL.
+SEPARABLE_MAX_SIGMA = 6.0
 
 #: the neighbourhood read around each tile, in spatial sigmas
 _MARGIN_SIGMAS = 2.5
@@ -99,6 +125,7 @@ def _validate(
     channel_weights: np.ndarray | None,
     guide_dims: int | None,
     border: str,
+    method: str,
 ) -> tuple[np.ndarray, float, float, np.ndarray, int | None]:
     arr = np.asarray(image)
     if arr.ndim != 3 or arr.shape[0] == 0 or arr.shape[1] == 0 or arr.shape[2] == 0:
@@ -114,6 +141,8 @@ def _validate(
         )
     if border not in BORDERS:
         raise OpError(f"bilateral: border must be one of {BORDERS}, got {border!r}")
+    if method not in METHODS:
+        raise OpError(f"bilateral: method must be one of {METHODS}, got {method!r}")
     if channel_weights is None:
         weights = np.ones(channels, dtype=np.float64)
     else:
@@ -273,6 +302,7 @@ def bilateral_filter(
     guide_dims: int | None = None,
     border: str = "wrap",
     max_residual: float | None = None,
+    method: str = "auto",
 ) -> np.ndarray:
     """Bilateral filter of an ``(H, W, C)`` image guided jointly by its (weighted) channels.
 
@@ -296,13 +326,16 @@ def bilateral_filter(
         Also drop the trailing principal components of the guide whose
         variance sums to at most this, in units of ``sigma_range**2``
         (:func:`prepare_guide`); default: keep every component that varies.
+    method : {"auto", "separable", "lattice"}
+        How the filter is evaluated (module doc); ``"auto"``: separable up to
+        :data:`SEPARABLE_MAX_SIGMA`, the lattice beyond.
 
     Returns
     -------
     (H, W, C) float32 ndarray, a new array.
     """
     arr, sigma_s, sigma_r, weights, guide_dims = _validate(
-        image, sigma_space_px, sigma_range, channel_weights, guide_dims, border
+        image, sigma_space_px, sigma_range, channel_weights, guide_dims, border, method
     )
     src = np.ascontiguousarray(arr, dtype=np.float32)
     # a float64 sum of float32 values cannot overflow: it is finite iff they all are
@@ -311,7 +344,15 @@ def bilateral_filter(
     if max_residual is not None:
         max_residual = _check_sigma("max_residual", max_residual)
     guide = prepare_guide(src, weights, sigma_r, guide_dims, max_residual)
+    if method == "separable" or (method == "auto" and sigma_s <= SEPARABLE_MAX_SIGMA):
+        return run_separable_guided(src, guide, sigma_s, border)
     return run_lattice(src, guide, sigma_s, border)
+
+
+def run_separable_guided(src: np.ndarray, guide: Guide, sigma_s: float, border: str) -> np.ndarray:
+    """The separable filter on validated inputs (``src`` float32, C-contiguous)."""
+    mix = guide.scales[:, None] * guide.basis  # the basis is the identity when not rotated
+    return run_separable(src, guide.used, mix, guide.offset, sigma_s, border == "wrap", _threads())
 
 
 def _elevation(d: int, scale: float) -> np.ndarray:
