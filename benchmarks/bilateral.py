@@ -1,6 +1,6 @@
 """Bilateral filter speed as ratios to OpenCV's, measured in one run.
 
-    python benchmarks/bilateral.py [--repeat N] [--size 2048] [--guide-table]
+    python benchmarks/bilateral.py [--repeat N] [--size 2048] [--guide-table] [--methods]
 
 Baseline: ``cv2.bilateralFilter`` on 3 float32 channels (base color) with a
 ``2 round(1.5 sigma) + 1`` window (25 x 25 at sigma_space 8), what a user
@@ -19,6 +19,11 @@ of per-texel lobes at 1K, guided by 6 principal components.
 ratio to cv2 at the same sigma and the worst PSNR against the exact filter
 on three 64 x 64 crops (the guide's axes taken from the whole image), with
 the variance the dropped axes carry: how ``MAX_RESIDUAL`` was chosen.
+
+``--methods``: per spatial sigma, the separable filter and the lattice (guide
+"auto"): the median wall ratio to cv2, the single-thread CPU time ratio (numba
+and cv2 on one thread, best of the runs) and the worst PSNR of the three crops
+against the exact filter: how ``SEPARABLE_MAX_SIGMA`` was chosen.
 Goal (issue 16): < 1x cv2 at sigma 4 and 8, >= 40 dB.
 """
 
@@ -31,11 +36,12 @@ import time
 from collections.abc import Callable
 
 import cv2
+import numba
 import numpy as np
 from _common import goal, paired_ratios, real_set
 from scipy.special import ndtri
 
-from matshop.ops.bilateral import bilateral_filter, prepare_guide, run_lattice
+from matshop.ops.bilateral import METHODS, bilateral_filter, prepare_guide, run_lattice
 from matshop.ops.bilateral_ops import MAX_RESIDUAL
 from matshop.ops.selection import Selection
 
@@ -118,6 +124,61 @@ def guide_table(edit: np.ndarray, weights: np.ndarray, repeat: int) -> None:
             )
 
 
+def cpu_ratio(ours: Callable[[], object], base: Callable[[], object], repeat: int) -> float:
+    """Best single-thread CPU time of ``ours`` over that of ``base``, run alternately."""
+    threads, cv2_threads = numba.get_num_threads(), cv2.getNumThreads()
+    numba.set_num_threads(1)
+    cv2.setNumThreads(1)
+    try:
+        ours()
+        base()
+        best = {"ours": math.inf, "base": math.inf}
+        for _ in range(repeat):
+            for name, fn in (("base", base), ("ours", ours)):
+                start = time.process_time()
+                fn()
+                best[name] = min(best[name], time.process_time() - start)
+    finally:
+        numba.set_num_threads(threads)
+        cv2.setNumThreads(cv2_threads)
+    return best["ours"] / best["base"]
+
+
+def methods_table(edit: np.ndarray, weights: np.ndarray, repeat: int) -> None:
+    """Cost and accuracy of each method by spatial sigma (the data behind SEPARABLE_MAX_SIGMA)."""
+    color = np.ascontiguousarray(edit[..., :3])
+    print(
+        f"{'sigma':>5s} {'method':>9s} {'wall ratio':>10s} {'spread':>11s}"
+        f" {'CPU 1 thread':>12s} PSNR"
+    )
+    for sigma in (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0):
+        refs = [exact(edit[r : r + 64, c : c + 64], sigma, weights) for r, c in CROPS]
+        base = cv2_bilateral(color, sigma)
+        for method in METHODS[1:]:
+
+            def run(image: np.ndarray = edit, method: str = method, sigma: float = sigma):
+                return bilateral_filter(
+                    image,
+                    sigma_space_px=sigma,
+                    sigma_range=SIGMA_RANGE,
+                    channel_weights=weights,
+                    max_residual=MAX_RESIDUAL,
+                    method=method,
+                )
+
+            worst = min(
+                psnr(run(np.ascontiguousarray(edit[r : r + 64, c : c + 64])), ref)
+                for (r, c), ref in zip(CROPS, refs, strict=True)
+            )
+            ratios = paired_ratios(run, base, repeat)
+            print(
+                f"{sigma:5g} {method:>9s} {statistics.median(ratios):10.2f}"
+                f" {min(ratios):5.2f}-{max(ratios):5.2f} {cpu_ratio(run, base, repeat):12.2f}"
+                f" {worst:6.1f}",
+                flush=True,
+            )
+
+
 def cells(size: int, channels: int, seed: int = 0, noise: float = 0.01) -> np.ndarray:
     """Flat random materials in tileable Voronoi cells, a gentle gradient, noise."""
     rng = np.random.default_rng(seed)
@@ -183,12 +244,16 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--size", type=int, default=2048)
     parser.add_argument("--guide-table", action="store_true")
+    parser.add_argument("--methods", action="store_true")
     args = parser.parse_args()
     edit, weights, what = real_edit(args.size)
     size = edit.shape[0]
     print(f"data: {what}; sigma_range {SIGMA_RANGE} (of each edit range)")
     if args.guide_table:
         guide_table(edit, weights, args.repeat)
+        return
+    if args.methods:
+        methods_table(edit, weights, args.repeat)
         return
     color = np.ascontiguousarray(edit[..., :3])
 

@@ -85,7 +85,10 @@ def test_exact_when_the_guide_varies_along_one_axis(axis) -> None:
     weights = np.array([1.0, 0.0])
     for sigma_s in (2.0, 5.0):
         out = bilateral_filter(
-            image, sigma_space_px=sigma_s, sigma_range=0.1, channel_weights=weights,
+            image,
+            sigma_space_px=sigma_s,
+            sigma_range=0.1,
+            channel_weights=weights,
             method="separable",
         )
         exact = brute_force(image, sigma_s, 0.1, weights=weights)

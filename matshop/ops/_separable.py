@@ -22,12 +22,13 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from numba import njit
 
+#: every kernel: no zero-division checks (a weight sum includes the texel's own
+#: weight, 1), and fused multiply-adds (measured ~4 % faster, and no less exact)
+_FLAGS = {"error_model": "numpy", "fastmath": {"contract"}}
 #: exp(-q) is evaluated as (1 - q / 2^n)^(2^n) (n squarings, vectorisable without
 #: a vector exp): absolute error below e^-q q^2 / 2^(n+1), at most 2.6e-4 for n = 10
 _SQUARINGS = 10
 _INV_POWER = 1.0 / (1 << _SQUARINGS)
-
-
 #: exp(-q) is taken as 0 from here on (e^-40 = 4e-18 of the centre tap's weight):
 #: the squarings would otherwise pass through subnormal floats, ~100 times slower
 _CUTOFF = 40.0
@@ -35,10 +36,10 @@ _CUTOFF = 40.0
 #: rows of (channels + guide) x this floats, stay in the second-level cache) and
 #: rows (each tile recomputes the row pass on 2 radius rows above and below it)
 TILE_COLUMNS = 512
-TILE_ROWS = 256
+TILE_ROWS = 512
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True, **_FLAGS, inline="always")
 def _exp_neg(q):
     """exp(-q) for q >= 0 to within 2.6e-4 absolute (see ``_SQUARINGS``), 0 past ``_CUTOFF``."""
     base = np.float32(1.0) - q * np.float32(_INV_POWER)
@@ -57,7 +58,7 @@ def _exp_neg(q):
     return base
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def _fill(src, y, x0, radius, wrap, pad):
     """Columns ``x0 - radius ...`` of row ``y`` of ``src`` (H, W, C), planar into ``pad``.
 
@@ -70,14 +71,16 @@ def _fill(src, y, x0, radius, wrap, pad):
     for c in range(src.shape[2]):
         for j in range(inside0, inside1):
             pad[c, j] = src[y, x0 - radius + j, c]
-    for j in list(range(inside0)) + list(range(inside1, span)):
+    for j in range(span):
+        if inside0 <= j < inside1:
+            continue
         x = x0 - radius + j
         x = x % width if wrap else min(max(x, 0), width - 1)
         for c in range(src.shape[2]):
             pad[c, j] = src[y, x, c]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def _distance(dist, far, near):
     """``dist += (far - near)^2`` element-wise (1-D views)."""
     for x in range(dist.shape[0]):
@@ -85,7 +88,7 @@ def _distance(dist, far, near):
         dist[x] += diff * diff
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def _weigh(dist, spatial_w, wrow, wsum):
     """``wrow = spatial_w exp(-dist / 2)``, added to ``wsum``."""
     for x in range(dist.shape[0]):
@@ -94,21 +97,21 @@ def _weigh(dist, spatial_w, wrow, wsum):
         wsum[x] += w
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def _add(acc, wrow, values):
     """``acc += wrow values`` element-wise (1-D views)."""
     for x in range(acc.shape[0]):
         acc[x] += wrow[x] * values[x]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def _scaled_add(acc, scale, values):
     """``acc += scale values`` element-wise (1-D views)."""
     for x in range(acc.shape[0]):
         acc[x] += scale * values[x]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def _row(src, y, x0, used, mix, offset, spatial, wrap, pad, gpad, acc, scratch, feat, mid):
     """1-D bilateral along row ``y`` of ``src`` for the ``n`` columns from ``x0``.
 
@@ -141,7 +144,7 @@ def _row(src, y, x0, used, mix, offset, spatial, wrap, pad, gpad, acc, scratch, 
             mid[c, x] = acc[c, x] / wsum[x]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def filter_tile(src, used, mix, offset, spatial, wrap, out, row0, row1, x0, x1):
     """The separable bilateral of ``src`` (H, W, C) for rows ``row0:row1``, columns ``x0:x1``.
 
@@ -165,8 +168,22 @@ def filter_tile(src, used, mix, offset, spatial, wrap, out, row0, row1, x0, x1):
     for r in range(row0 - radius, row1 + radius):
         slot = (r - row0 + radius) % taps
         y = r % height if wrap else min(max(r, 0), height - 1)
-        _row(src, y, x0, used, mix, offset, spatial, wrap, pad, gpad, acc, scratch,
-             ring_feat[slot], ring_mid[slot])
+        _row(
+            src,
+            y,
+            x0,
+            used,
+            mix,
+            offset,
+            spatial,
+            wrap,
+            pad,
+            gpad,
+            acc,
+            scratch,
+            ring_feat[slot],
+            ring_mid[slot],
+        )
         centre = r - radius  # the output row whose window ends at r
         if centre < row0:
             continue
@@ -187,7 +204,7 @@ def filter_tile(src, used, mix, offset, spatial, wrap, out, row0, row1, x0, x1):
                 out[centre, x0 + x, c] = acc[c, x] * inv
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, **_FLAGS)
 def filter_tiles(src, used, mix, offset, spatial, wrap, out, start, step):
     """Tiles ``start, start + step, ...`` (row-major, ``TILE_ROWS`` x ``TILE_COLUMNS``)."""
     height, width, _ = src.shape
@@ -196,8 +213,19 @@ def filter_tiles(src, used, mix, offset, spatial, wrap, out, start, step):
     for tile in range(start, across * down, step):
         row0 = (tile // across) * TILE_ROWS
         x0 = (tile % across) * TILE_COLUMNS
-        filter_tile(src, used, mix, offset, spatial, wrap, out, row0,
-                    min(row0 + TILE_ROWS, height), x0, min(x0 + TILE_COLUMNS, width))
+        filter_tile(
+            src,
+            used,
+            mix,
+            offset,
+            spatial,
+            wrap,
+            out,
+            row0,
+            min(row0 + TILE_ROWS, height),
+            x0,
+            min(x0 + TILE_COLUMNS, width),
+        )
 
 
 def run_separable(
