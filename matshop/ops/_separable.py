@@ -9,9 +9,13 @@ pass by the first's output. The approximation is exact where the guide varies
 along one axis only (axis-aligned edges, smooth gradients); on oblique edges a
 neighbour reached through a texel of another material is still counted.
 
-Layout: the guide features and the row pass's result are stored planar,
-``(rows, channel, columns)``, so that every inner loop runs along a row of
-contiguous floats with the taps on the outer loop (vectorised by LLVM).
+Layout: the image is cut into tiles, each filtered down its rows with the row
+pass one window ahead of the column pass (ring buffers of the last
+``2 radius + 1`` rows, no intermediate image). Within a tile, a row's channels
+and guide features are planar, ``(channel, column)``, so that every inner loop
+runs along contiguous floats with the taps on the outer loop (vectorised by
+LLVM); converting from and to the interleaved image is about a quarter of the
+time at sigma 4.
 """
 
 from __future__ import annotations
