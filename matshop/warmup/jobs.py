@@ -187,6 +187,9 @@ def _document(material: Any) -> Any:
             props = {} if only is None else {"parameters": list(only)}
             history.push(AddLayer(doc.new_filter_layer(name, **props)))
             _show(doc)
+    # the bilateral's default sigma runs the separable filter, a wider one the lattice
+    history.push(AddLayer(doc.new_filter_layer("bilateral", op_params={"sigma_px": 8.0})))
+    _show(doc)
     return doc.flatten_physical()
 
 
