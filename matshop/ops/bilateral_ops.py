@@ -175,13 +175,13 @@ def sigma_fits(op: str) -> Check:
 def lattice_reach(values: Mapping[str, Any], target: OpTarget) -> Reach:
     """The whole image, although the spatial Gaussian is negligible past ~3 sigma.
 
-    The permutohedral lattice approximates the filter with an error whose
-    pattern depends on where the lattice sits and on the guide's principal
-    axes over the whole image, so no finite margin makes a tile equal the op
-    run on the whole image (measured: tiles grown by 3 sigma differ by ~1 %
-    rms of each channel's range, as much as either differs from the exact
-    filter). A filter layer running it computes the whole image at once and
-    equals ``matshop apply`` byte for byte.
+    The guide's principal axes (and which are dropped) come from the whole
+    image, and the permutohedral lattice (wide sigmas) approximates the filter
+    with an error whose pattern depends on where the lattice sits, so no finite
+    margin makes a tile equal the op run on the whole image (measured with the
+    lattice: tiles grown by 3 sigma differ by ~1 % rms of each channel's range,
+    as much as either differs from the exact filter). A filter layer running it
+    computes the whole image at once and equals ``matshop apply`` byte for byte.
     """
     return WHOLE_IMAGE
 
