@@ -267,7 +267,9 @@ def test_the_tiling_comparison_catches_a_reach_that_is_too_small(sample, monkeyp
 def test_a_lattice_filter_cannot_tile_so_it_declares_the_whole_image(sample, monkeypatch) -> None:
     """Why bilateral and detail read the whole image: tiles grown by a 3 sigma margin
     (ample for the spatial Gaussian) still differ from the op on the whole image, since
-    the lattice's approximation moves with where the lattice sits."""
+    the guide's kept principal axes come from the image the op sees (and the lattice's
+    approximation, at wide sigmas, moves with where the lattice sits). At these values
+    (sigma 3: the separable filter) measured 5.7e-3 of a channel's range at worst."""
     spec = get_op("bilateral")
     values = TILING["bilateral"]
     truth = spec.function(sample.data, schema=sample.schema, **spec.bind(values))
@@ -275,4 +277,4 @@ def test_a_lattice_filter_cannot_tile_so_it_declares_the_whole_image(sample, mon
     monkeypatch.setitem(all_ops(), "bilateral", margin)
     got, reach = _flattened(sample, "bilateral", values, tile_size=64)
     assert reach == 9
-    assert _relative_error(got, truth).max() > 1e-2
+    assert _relative_error(got, truth).max() > 2e-3
