@@ -36,6 +36,7 @@ from PySide6.QtCore import QCoreApplication, QThread, Signal
 from ..layers import Document
 from ..layers.geometry import TileKey
 from ..render.environment import Environment
+from ..viewport.band_speed import follow_speed
 from . import lit_scene
 
 #: longest the coarse passes should take: the first follows the drag, the second is a
@@ -251,10 +252,7 @@ class GLLitWorker(QThread):
         began = time.perf_counter()
         renderer.draw(level, rows)
         seconds = time.perf_counter() - began
-        measured = seconds / max(pixels, 1)
-        # a slowdown counts at once (the next band must keep to its budget); a speed-up
-        # through a running mean that forgets in a few passes (the load changes)
-        self.s_per_pixel = max(measured, 0.7 * self.s_per_pixel + 0.3 * measured)
+        self.s_per_pixel = follow_speed(self.s_per_pixel, seconds / max(pixels, 1))
         return seconds
 
     def _emit(self, renderer, generation: int, level: int, seconds: float) -> None:

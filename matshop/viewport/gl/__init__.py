@@ -15,6 +15,8 @@ Modules, one idea each (Qt and OpenGL live here only, never in the engine):
 - :mod:`.textures` — shading textures on the GPU, dirty tiles re-uploaded with byte counts
 - :mod:`.environment_gpu` — the environment's mip chain and irradiance map as textures
 - :mod:`.renderer` — the draw (background, shaded mesh), offscreen images
+- :mod:`.banded_frame` — a frame too slow for one paint drawn in row bands, the last whole
+  frame shown meanwhile
 - :mod:`.swatch` — the same shader in texture space: the lit swatch, one pixel per texel
 - :mod:`.picking` — the UV/position pass: cursor -> surface point and texture coordinate
 - :mod:`.surface_map` — every texel's surface point (a UV-space bake), for 3D dabs

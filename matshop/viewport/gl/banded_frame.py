@@ -22,6 +22,7 @@ from collections.abc import Callable
 
 from OpenGL import GL
 
+from ..band_speed import follow_speed
 from .fbo import Framebuffer
 
 #: rows of the first band when nothing was measured yet (a new view)
@@ -122,11 +123,9 @@ class BandedFrames:
             GL.glFinish()  # the band's real cost, and the window does not wait for it later
         finally:
             GL.glDisable(GL.GL_SCISSOR_TEST)
-        measured = (time.perf_counter() - began) / (bottom - top)
-        # a slowdown counts at once (the next band must keep to the budget); a speed-up
-        # through a running mean (the machine's load changes)
-        previous = measured if self.s_per_row is None else self.s_per_row
-        self.s_per_row = max(measured, 0.7 * previous + 0.3 * measured)
+        self.s_per_row = follow_speed(
+            self.s_per_row, (time.perf_counter() - began) / (bottom - top)
+        )
         if bottom < height:
             self._next_row = bottom
             return
