@@ -22,11 +22,12 @@ def require_gl() -> None:
         pytest.skip(reason, allow_module_level=True)
 
 
-def shown_viewport(qtbot, size: int):
-    """A :class:`MaterialViewport` of ``size`` x ``size``, shown and exposed."""
+def shown_viewport(qtbot, size: int, widget_class=None):
+    """A :class:`MaterialViewport` (or ``widget_class``, a subclass) of ``size`` x ``size``,
+    shown and exposed."""
     from matshop.viewport.gl.view import MaterialViewport
 
-    widget = MaterialViewport()
+    widget = (widget_class or MaterialViewport)()
     widget.resize(size, size)
     qtbot.addWidget(widget)
     widget.show()

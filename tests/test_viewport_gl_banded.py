@@ -19,45 +19,36 @@ from gl_testing import require_gl
 
 require_gl()  # skips the module, saying why, without pytest-qt or an OpenGL 3.3 context
 
-from gl_testing import release  # noqa: E402
+from gl_testing import release, shown_viewport  # noqa: E402
+from OpenGL import GL  # noqa: E402
 from test_viewport_gl_variance import bumpy_metal  # noqa: E402
 
 from matshop.layers import Document  # noqa: E402
+from matshop.viewport.gl.view import MaterialViewport  # noqa: E402
 
 VIEW = 72
 
 
-def _recording_viewport(qtbot):
-    """A shown viewport that keeps what each paint left in its framebuffer (RGB, top row
-    first): what the window composes."""
-    from OpenGL import GL
+class Recording(MaterialViewport):
+    """A viewport that keeps what each paint left in its framebuffer (RGB, top row first):
+    what the window composes."""
 
-    from matshop.viewport.gl.view import MaterialViewport
+    def __init__(self) -> None:
+        super().__init__()
+        self.shown: list[np.ndarray] = []
 
-    class Recording(MaterialViewport):
-        def __init__(self) -> None:
-            super().__init__()
-            self.shown: list[np.ndarray] = []
-
-        def paintGL(self) -> None:  # noqa: N802 - Qt's name
-            super().paintGL()
-            width, height = self._pixel_size()
-            GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, self.defaultFramebufferObject())
-            data = GL.glReadPixels(0, 0, width, height, GL.GL_RGBA, GL.GL_UNSIGNED_BYTE)
-            pixels = np.frombuffer(data, np.uint8).reshape(height, width, 4)
-            self.shown.append(pixels[::-1, :, :3].copy())
-
-    widget = Recording()
-    widget.resize(VIEW, VIEW)
-    qtbot.addWidget(widget)
-    widget.show()
-    qtbot.waitExposed(widget)
-    return widget
+    def paintGL(self) -> None:  # noqa: N802 - Qt's name
+        super().paintGL()
+        width, height = self._pixel_size()
+        GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, self.defaultFramebufferObject())
+        data = GL.glReadPixels(0, 0, width, height, GL.GL_RGBA, GL.GL_UNSIGNED_BYTE)
+        pixels = np.frombuffer(data, np.uint8).reshape(height, width, 4)
+        self.shown.append(pixels[::-1, :, :3].copy())
 
 
 @pytest.fixture
 def viewport(gl_context, qtbot):
-    widget = _recording_viewport(qtbot)
+    widget = shown_viewport(qtbot, VIEW, Recording)
     widget.set_document(Document.from_material(bumpy_metal(64)))
     widget.update()
     settle(widget, qtbot)
