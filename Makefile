@@ -44,4 +44,8 @@ test: $(PYTHON) validator
 # every benchmark script, then one table of goal / ratio / verdict (benchmarks/table.py)
 bench: $(PYTHON)
 	$(PIP) -e ".[gui]"
-	$(PYTHON) benchmarks/table.py
+	if [ -z "$$DISPLAY" ] && command -v xvfb-run >/dev/null; then \
+		xvfb-run -a -s "-screen 0 1280x1024x24" $(PYTHON) benchmarks/table.py; \
+	else \
+		$(PYTHON) benchmarks/table.py; \
+	fi
