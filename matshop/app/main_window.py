@@ -40,6 +40,7 @@ from .brush_images import choose_stencil, choose_tip
 from .busy_indicator import BusyIndicator
 from .curves_dialog import CurvesDialog
 from .files import FileController
+from .gui_gc import collect_on_gui_thread_while
 from .history_panel import HistoryPanel
 from .image_import import import_image, is_image
 from .kernel_warm_up import KernelWarmUp
@@ -62,6 +63,7 @@ class MainWindow(QMainWindow):
 
     def __init__(self, settings: QSettings | None = None, prompts: Prompts | None = None) -> None:
         super().__init__()
+        collect_on_gui_thread_while(self)
         self.setWindowTitle("matshop")
         self.setAcceptDrops(True)
         self.setDockOptions(
