@@ -13,9 +13,12 @@ Layout: the image is cut into tiles, each filtered down its rows with the row
 pass one window ahead of the column pass (ring buffers of the last
 ``2 radius + 1`` rows, no intermediate image). Within a tile, a row's channels
 and guide features are planar, ``(channel, column)``, so that every inner loop
-runs along contiguous floats with the taps on the outer loop (vectorised by
-LLVM); converting from and to the interleaved image is about a quarter of the
-time at sigma 4.
+runs along contiguous floats (vectorised by LLVM). The range weight of a pair
+of texels is the same for both (``w(x, x + t) = w(x + t, x)``), so each pair is
+weighed once: per row, the weights with the ``radius`` texels to its right;
+per row of the column pass, those with the ``radius`` rows above it. The sums
+take four taps and two channels per sweep along the columns (see
+:func:`_sweep4`); the weight sum is one more channel (of ones).
 """
 
 from __future__ import annotations
