@@ -30,16 +30,22 @@ validator:
 
 # install what the tests need, then lint and run the whole suite (the import-linter
 # contract runs inside pytest; Xvfb is used when there is no display; pytest's
-# summary lists every skipped test with its reason)
+# summary lists every skipped test with its reason). Two passes: the tests marked
+# `serial` time the GUI thread or the event loop, so they run first with nothing else
+# on the cores; then the rest on TEST_WORKERS processes (pytest-xdist), one test file
+# per worker at a time so module fixtures are built once. The second pass runs even
+# when the first fails, and the recipe fails when either did.
+TEST_WORKERS ?= 2
+XVFB := $(if $(DISPLAY),,$(if $(shell command -v xvfb-run),xvfb-run -a -s "-screen 0 1280x1024x24"))
+
 test: $(PYTHON) validator
 	$(PIP) -e ".[gui,test]"
 	$(PYTHON) -m ruff check matshop tests benchmarks scripts
 	$(PYTHON) -m matshop warm-up --if-cold
-	if [ -z "$$DISPLAY" ] && command -v xvfb-run >/dev/null; then \
-		xvfb-run -a -s "-screen 0 1280x1024x24" $(PYTHON) -m pytest; \
-	else \
-		$(PYTHON) -m pytest; \
-	fi
+	status=0; \
+	$(XVFB) $(PYTHON) -m pytest -m serial || status=$$?; \
+	$(XVFB) $(PYTHON) -m pytest -m "not serial" -n $(TEST_WORKERS) --dist loadfile || status=$$?; \
+	exit $$status
 
 # every benchmark script, then one table of goal / ratio / verdict (benchmarks/table.py)
 bench: $(PYTHON)

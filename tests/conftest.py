@@ -9,6 +9,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from worker_display import start_own_display
+
+# each xdist worker of a parallel run draws on an X server of its own (see worker_display)
+_OWN_DISPLAY = start_own_display()
 
 # Qt widgets need a display; without one (a plain `pytest` outside Xvfb) the widget tests
 # still run offscreen, and the GL tests, which offscreen cannot serve, skip themselves.
@@ -85,12 +89,28 @@ def pytest_configure(config) -> None:
         os.environ["MATSHOP_FUZZ_LONG"] = "1"
 
 
+def pytest_runtest_setup(item) -> None:
+    # A `serial` test times the GUI thread: beside another test process its wall-gap bound
+    # would be skipped (the load average reads high) and its CPU bound judged on shared
+    # cores, so on several xdist workers it fails rather than pass weakened.
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    if workers > 1 and item.get_closest_marker("serial"):
+        pytest.fail(
+            f"marked `serial`: it must not share the cores with {workers - 1} other "
+            'worker(s); run it without -n and the rest with -m "not serial" (as `make test` does)',
+            pytrace=False,
+        )
+
+
 def pytest_sessionfinish(session, exitstatus) -> None:
     global _exit_status
     _exit_status = int(exitstatus)
 
 
 def pytest_unconfigure(config) -> None:
+    if _OWN_DISPLAY is not None:  # this worker's X server: ended and reaped here
+        _OWN_DISPLAY.terminate()
+        _OWN_DISPLAY.wait(timeout=30)
     # After a long Qt session (dozens of windows, thousands of signal
     # connections), PySide6 6.12 on CPython 3.11 can abort in the interpreter's
     # final garbage collection ("bool_dealloc: deallocating True or False", a

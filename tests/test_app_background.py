@@ -56,6 +56,7 @@ def test_a_snapshot_shares_tiles_but_no_layer_object(window) -> None:
     assert doc.stale_global_layers() == []
 
 
+@pytest.mark.serial
 def test_adding_a_bilateral_layer_returns_at_once_and_matches_the_engine(window, qtbot) -> None:
     assert window.open_path(SAMPLE)
     window.canvas.flush()
@@ -119,6 +120,7 @@ def test_cancel_undoes_an_added_filter_or_hides_a_changed_one(window, qtbot) -> 
     )
 
 
+@pytest.mark.serial
 @pytest.mark.skipif(not CHESSBOARD.is_dir(), reason="../shared/data/chessboard is not present")
 def test_the_gui_thread_stays_responsive_on_2k(window, qtbot, capsys) -> None:
     assert window.open_path(CHESSBOARD)

@@ -293,6 +293,7 @@ def timed(obj, names) -> dict[str, list[float]]:
     return spent
 
 
+@pytest.mark.serial
 def test_loading_a_4k_stencil_and_painting_a_big_tip_never_stall(
     warm_kernels, window, qtbot, tmp_path
 ):

@@ -118,6 +118,7 @@ def test_choose_tune_and_repaint_below_a_generated_mask(window, qtbot) -> None:
         window.grab().save(str(Path(SHOTS) / "generated_mask_and_pressure.png"))
 
 
+@pytest.mark.serial
 @pytest.mark.skipif(not CHESSBOARD.is_dir(), reason="../shared/data/chessboard is not present")
 def test_a_2k_generated_mask_is_made_off_the_gui_thread(window, capsys) -> None:
     assert window.open_path(CHESSBOARD)

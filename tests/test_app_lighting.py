@@ -233,6 +233,7 @@ def test_uniform_light_exposure_and_a_turned_spot_on_the_lit_display(window, tmp
     assert window.grab().save(str(SHOTS / "lighting_lit_display.png"))
 
 
+@pytest.mark.serial
 def test_a_big_hdr_loads_without_stalling_and_a_broken_one_is_one_line(
     warm_kernels, window, tmp_path
 ):

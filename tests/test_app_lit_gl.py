@@ -141,6 +141,7 @@ def test_a_stroke_reuploads_only_its_tiles_and_the_picture_follows(window):
     assert (error <= 1).mean() >= 0.999 and error.max() <= 3
 
 
+@pytest.mark.serial
 @NO_CHESSBOARD
 def test_dragging_the_light_over_a_2k_set_never_stalls_and_says_it_is_refining(window):
     assert window.open_path(CHESSBOARD)

@@ -53,6 +53,7 @@ def _drawn(win) -> Callable[[], bool]:
     return lambda: win.canvas.cache is not None and not win.canvas.cache.busy
 
 
+@pytest.mark.serial
 def test_opening_exporting_saving_and_reopening_a_2k_set_never_stalls(
     window, tmp_path, monkeypatch
 ):

@@ -31,6 +31,7 @@ PROBE = Path(__file__).resolve().parent / "first_use_probe.py"
 STALL_LIMIT_S = 0.25
 
 
+@pytest.mark.serial
 def test_a_fresh_install_compiles_at_launch_in_a_child_and_the_first_stroke_does_not_stall(
     tmp_path,
 ) -> None:

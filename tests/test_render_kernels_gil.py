@@ -57,6 +57,7 @@ def _long_call_stall(make_call) -> tuple[float, float]:
         size *= 2
 
 
+@pytest.mark.serial
 def test_rasterizing_a_mesh_on_a_worker_leaves_the_event_loop_running(qapp) -> None:
     rng = np.random.default_rng(1)
 

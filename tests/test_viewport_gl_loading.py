@@ -45,6 +45,7 @@ def viewport(gl_context, qtbot):
     release(widget)
 
 
+@pytest.mark.serial
 def test_a_sampled_lobe_with_kept_variance_loads_without_stalling(viewport) -> None:
     material = with_lobe(bumpy_metal(SIZE), "sampled")
     doc = Document.from_material(material)
