@@ -15,14 +15,17 @@ import os
 import shutil
 import signal
 import subprocess
+import sys
 
 SCREEN = "1280x1024x24"
 _PR_SET_PDEATHSIG = 1
 
 
 def _end_with_parent() -> None:
-    # the server gets SIGTERM when the worker dies, however it dies
-    ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+    # the server gets SIGTERM when the worker dies, however it dies (Linux only; elsewhere
+    # the worker's own end, in conftest, stops it)
+    if sys.platform.startswith("linux"):
+        ctypes.CDLL(None).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
 
 
 def start_own_display() -> subprocess.Popen | None:
