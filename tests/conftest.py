@@ -39,7 +39,7 @@ def _delete_closed_widgets(request):
     its document, caches and GL textures (measured: ~0.7 GB per 2K window, the suite's
     process grew to 7.5 GB). Only after a test that had ``qtbot``: pytest-qt closes the
     widgets given to it, and the full collection costs up to half a second once the
-    suite's heap is large (after every test it was 878 s of a 1490 s suite).
+    suite's heap is large (after every test, the teardowns were 878 s of a 1490 s suite).
     """
     yield
     if "qtbot" not in request.fixturenames or "PySide6" not in sys.modules:
