@@ -104,9 +104,10 @@ def pytest_runtest_setup(item) -> None:
             'worker(s); run it without -n and the rest with -m "not serial" (as `make test` does)',
             pytrace=False,
         )
-    # It starts on a collected heap, so the interpreter's own full collection of a long
-    # session's heap (up to half a second, measured 337 ms in one GUI-thread gap; an editor
-    # has no such heap) does not fall into its timing.
+    # It starts on a collected heap, as when every test's teardown collected: a full
+    # collection of a long session's heap (up to half a second; by the interpreter, or by
+    # the editor's GUI-thread collector, app/gui_gc.py) is then unlikely to fall into its
+    # timing. An editor has no such heap.
     gc.collect()
 
 
