@@ -87,9 +87,10 @@ def _fill(src, y, x0, radius, wrap, pad):
         for c in range(channels):
             pad[c, inside0 + j] = src[y, x, c]
     finite = True
+    start = np.uint64(inside0)
     for c in range(channels):
-        for j in range(inside0, inside1):
-            v = pad[c, j]
+        for j in range(inside1 - inside0):
+            v = pad[c, start + np.uint64(j)]
             finite &= v - v == 0.0
     for j in range(span):
         if inside0 <= j < inside1:
@@ -154,10 +155,10 @@ def _pairs(feat, sa, oa, sb, ob, count, spatial_w, out, so, row, dist):
 # and each sum loaded and stored once per four taps (one tap and channel per
 # sweep was load/store bound: three loads and a store per multiply-add; this is
 # 0.054 against 0.077 ns per tap, texel and channel). Column indices are
-# unsigned so that numba does not wrap them (a select per element). The sums
-# have an even number of rows (a row of zeros where needed): LLVM vectorises a
-# sweep only when its two rows are distinct (a row named twice ran scalar, 3x
-# slower).
+# unsigned so that numba does not wrap them (a select per element, or a gather).
+# An odd channel out takes sweeps of its own: a pair sweep naming one row twice
+# ran scalar (LLVM's overlap check fails), 3x slower; a row of zeros to pair it
+# with cost 0.7 of 17 ms per tile more than these.
 
 
 @njit(cache=True, nogil=True, **_FLAGS)
@@ -204,6 +205,37 @@ def _sweep4(acc, c, weights, values, tab, t, n, init):
 
 
 @njit(cache=True, nogil=True, **_FLAGS)
+def _sweep4_one(acc, c, weights, values, tab, t, n, init):
+    """Taps ``t .. t + 3`` into channel ``c`` alone (the last of an odd count)."""
+    a0, b0, m0 = tab[t, 0], tab[t, 1], tab[t, 3]
+    a1, b1, m1 = tab[t + 1, 0], tab[t + 1, 1], tab[t + 1, 3]
+    a2, b2, m2 = tab[t + 2, 0], tab[t + 2, 1], tab[t + 2, 3]
+    a3, b3, m3 = tab[t + 3, 0], tab[t + 3, 1], tab[t + 3, 3]
+    o0, p0 = np.uint64(tab[t, 2]), np.uint64(tab[t, 4])
+    o1, p1 = np.uint64(tab[t + 1, 2]), np.uint64(tab[t + 1, 4])
+    o2, p2 = np.uint64(tab[t + 2, 2]), np.uint64(tab[t + 2, 4])
+    o3, p3 = np.uint64(tab[t + 3, 2]), np.uint64(tab[t + 3, 4])
+    for x in range(n):
+        u = np.uint64(x)
+        s0 = weights[a0, b0, u + o0] * values[m0, c, u + p0]
+        s0 += weights[a1, b1, u + o1] * values[m1, c, u + p1]
+        s0 += weights[a2, b2, u + o2] * values[m2, c, u + p2]
+        s0 += weights[a3, b3, u + o3] * values[m3, c, u + p3]
+        acc[c, x] = s0 if init else acc[c, x] + s0
+
+
+@njit(cache=True, nogil=True, **_FLAGS)
+def _sweep1_one(acc, c, weights, values, tab, t, n, init):
+    """Tap ``t`` into channel ``c`` alone."""
+    a0, b0, m0 = tab[t, 0], tab[t, 1], tab[t, 3]
+    o0, p0 = np.uint64(tab[t, 2]), np.uint64(tab[t, 4])
+    for x in range(n):
+        u = np.uint64(x)
+        s0 = weights[a0, b0, u + o0] * values[m0, c, u + p0]
+        acc[c, x] = s0 if init else acc[c, x] + s0
+
+
+@njit(cache=True, nogil=True, **_FLAGS)
 def _sweep1(acc, c, weights, values, tab, t, n, init):
     """Tap ``t`` into channels ``c`` and ``c + 1`` over ``n`` columns."""
     a0, b0, o0, m0, p0 = tab[t, 0], tab[t, 1], np.uint64(tab[t, 2]), tab[t, 3], np.uint64(tab[t, 4])
@@ -222,15 +254,24 @@ def _sweep1(acc, c, weights, values, tab, t, n, init):
 
 @njit(cache=True, nogil=True, **_FLAGS)
 def _accumulate(acc, weights, values, tab, n):
-    """``acc[c, :n] = sum_t w_t v_t(c)`` for every channel of ``acc`` (an even number)."""
+    """``acc[c, :n] = sum_t w_t v_t(c)`` for every channel of ``acc`` (see the sweeps)."""
     taps = tab.shape[0]
-    for c in range(0, acc.shape[0], 2):
+    rows = acc.shape[0]
+    for c in range(0, rows - 1, 2):
         t = 0
         while t + 4 <= taps:
             _sweep4(acc, c, weights, values, tab, t, n, t == 0)
             t += 4
         while t < taps:
             _sweep1(acc, c, weights, values, tab, t, n, t == 0)
+            t += 1
+    if rows % 2:
+        t = 0
+        while t + 4 <= taps:
+            _sweep4_one(acc, rows - 1, weights, values, tab, t, n, t == 0)
+            t += 4
+        while t < taps:
+            _sweep1_one(acc, rows - 1, weights, values, tab, t, n, t == 0)
             t += 1
 
 
@@ -239,10 +280,9 @@ def _row(src, y, x0, used, mix, offset, spatial, wrap, pad, gpad, pairs, tab, di
     """1-D bilateral along row ``y`` of ``src`` for the ``n`` columns from ``x0``.
 
     Writes the range features ``feat[k, x] = sum_u src[y, x0 + x, used[u]] mix[u, k]
-    - offset[k]`` (K, n) and the filtered channels ``mid[c, x]`` (``rows``, n) with
-    ``mid[C] = 1`` (the column pass's weight sum rides along as a channel) and
-    ``mid[C + 1] = 0`` where ``rows`` (:func:`_rows`) has it. ``pad`` (rows, span)
-    with ``pad[C] = 1`` and ``pad[C + 1] = 0``, ``gpad`` (1, K, span), ``pairs``
+    - offset[k]`` (K, n) and the filtered channels ``mid[c, x]`` (C + 1, n) with
+    ``mid[C] = 1`` (the column pass's weight sum rides along as a channel).
+    ``pad`` (C + 1, span) with ``pad[C] = 1``, ``gpad`` (1, K, span), ``pairs``
     (1, radius + 1, span) with ``pairs[0, 0] = 1``, ``dist`` (span): work space;
     ``tab``: the row pass's taps (:func:`_row_taps`). Returns whether the row is finite.
     """
@@ -280,12 +320,6 @@ def _scaled_add(acc, scale, values):
 
 
 @njit(cache=True, nogil=True, **_FLAGS)
-def _rows(channels):
-    """Rows of the planar sums: the channels, their weight sum, and a row of zeros if odd."""
-    return (channels + 2) // 2 * 2
-
-
-@njit(cache=True, nogil=True, **_FLAGS)
 def _row_taps(radius):
     """The row pass's taps: tap ``e`` of column x weighs ``pairs[0, |e|, x + radius + min(e, 0)]``.
 
@@ -317,12 +351,12 @@ def filter_tile(src, used, mix, offset, spatial, wrap, out, row0, row1, x0, x1):
     radius = taps // 2
     n = x1 - x0
     span = n + 2 * radius
-    rows = _rows(channels)
+    rows = channels + 1  # and the weight sum
     ring_mid = np.empty((taps, rows, n), dtype=np.float32)
     ring_feat = np.empty((taps, dims, n), dtype=np.float32)
     ring_pairs = np.empty((taps, radius + 1, n), dtype=np.float32)
     ring_pairs[:, 0] = 1.0
-    pad = np.zeros((rows, span), dtype=np.float32)
+    pad = np.empty((rows, span), dtype=np.float32)
     pad[channels] = 1.0
     gpad = np.empty((1, dims, span), dtype=np.float32)
     pairs = np.empty((1, radius + 1, span), dtype=np.float32)
