@@ -461,10 +461,12 @@ def run_separable(
     """Separable bilateral of ``src`` (H, W, C) float32, each pass cut at ``ceil(3 sigma_s)``.
 
     Range features ``src[..., used] @ mix - offset`` (already over the range
-    sigma). Tiles are dealt round-robin to ``workers`` threads (the kernels
-    release the GIL). Writes into ``out`` (like ``src``) when given. Returns the
-    filtered image and whether ``src`` is finite (the image is not valid when
-    it is not).
+    sigma). Tiles are taken one at a time by ``workers`` threads (the kernels
+    release the GIL): a thread the system holds back leaves its tiles to the
+    others instead of delaying the end (dealt round-robin, a loaded machine
+    waited on the last thread). Writes into ``out`` (like ``src``) when given.
+    Returns the filtered image and whether ``src`` is finite (the image is not
+    valid when it is not).
     """
     height, width, _ = src.shape
     radius = math.ceil(3 * sigma_s)
@@ -483,7 +485,7 @@ def run_separable(
     workers = max(1, min(workers, tiles))
     if workers == 1:
         return args[-1], filter_tiles(*args, 0, 1)
-    jobs = [_pool(workers).submit(filter_tiles, *args, w, workers) for w in range(workers)]
+    jobs = [_pool(workers).submit(filter_tiles, *args, tile, tiles) for tile in range(tiles)]
     return args[-1], all([job.result() for job in jobs])
 
 
