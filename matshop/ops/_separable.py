@@ -217,11 +217,17 @@ def _sweep4_one(acc, c, weights, values, tab, t, n, init):
     o3, p3 = np.uint64(tab[t + 3, 2]), np.uint64(tab[t + 3, 4])
     for x in range(n):
         u = np.uint64(x)
-        s0 = weights[a0, b0, u + o0] * values[m0, c, u + p0]
-        s0 += weights[a1, b1, u + o1] * values[m1, c, u + p1]
-        s0 += weights[a2, b2, u + o2] * values[m2, c, u + p2]
-        s0 += weights[a3, b3, u + o3] * values[m3, c, u + p3]
-        acc[c, x] = s0 if init else acc[c, x] + s0
+        w0 = weights[a0, b0, u + o0]
+        w1 = weights[a1, b1, u + o1]
+        w2 = weights[a2, b2, u + o2]
+        w3 = weights[a3, b3, u + o3]
+        # the pair sweep's expression exactly: a channel's result must not depend on
+        # whether it was paired (keep_variance adds channels and asserts bit equality)
+        s0 = w0 * values[m0, c, u + p0] + w1 * values[m1, c, u + p1]
+        s0 += w2 * values[m2, c, u + p2] + w3 * values[m3, c, u + p3]
+        if not init:
+            s0 += acc[c, x]
+        acc[c, x] = s0
 
 
 @njit(cache=True, nogil=True, **_FLAGS)
@@ -232,7 +238,9 @@ def _sweep1_one(acc, c, weights, values, tab, t, n, init):
     for x in range(n):
         u = np.uint64(x)
         s0 = weights[a0, b0, u + o0] * values[m0, c, u + p0]
-        acc[c, x] = s0 if init else acc[c, x] + s0
+        if not init:
+            s0 += acc[c, x]
+        acc[c, x] = s0
 
 
 @njit(cache=True, nogil=True, **_FLAGS)
