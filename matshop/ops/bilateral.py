@@ -48,7 +48,6 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ._fresh import empty_touched_soon
 from ._permutohedral import filter_tiles, key_primes, locate
 from ._separable import run_separable
 from .spec import OpError
@@ -350,12 +349,12 @@ def bilateral_filter(
     if max_residual is not None:
         max_residual = _check_sigma("max_residual", max_residual)
     if method == "separable" or (method == "auto" and sigma_s <= SEPARABLE_MAX_SIGMA):
-        # the output's pages are mapped meanwhile (faults inside the kernel cost
-        # more); the kernel checks finiteness on its one read of the image (a
-        # serial sum here was ~20 of ~300 ms); the guide's sample before its PCA
-        fresh = empty_touched_soon(src.shape)
+        # the kernel checks finiteness on its one read of the image (a serial sum
+        # here was ~20 of ~300 ms); the guide's sample before its PCA. The output
+        # is not pre-touched on a thread: with the touch, calls took 0.8-1.3 s
+        # instead of 0.2 s now and then (system time: page-fault stalls)
         guide = prepare_guide(src, weights, sigma_r, guide_dims, max_residual)
-        return run_separable_guided(src, guide, sigma_s, border, out=fresh.result())
+        return run_separable_guided(src, guide, sigma_s, border)
     _check_finite(src)
     guide = prepare_guide(src, weights, sigma_r, guide_dims, max_residual)
     return run_lattice(src, guide, sigma_s, border)
