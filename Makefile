@@ -50,8 +50,4 @@ test: $(PYTHON) validator
 # every benchmark script, then one table of goal / ratio / verdict (benchmarks/table.py)
 bench: $(PYTHON)
 	$(PIP) -e ".[gui]"
-	if [ -z "$$DISPLAY" ] && command -v xvfb-run >/dev/null; then \
-		xvfb-run -a -s "-screen 0 1280x1024x24" $(PYTHON) benchmarks/table.py; \
-	else \
-		$(PYTHON) benchmarks/table.py; \
-	fi
+	$(XVFB) $(PYTHON) benchmarks/table.py
