@@ -51,9 +51,12 @@ def test_a_sampled_lobe_with_kept_variance_loads_without_stalling(viewport) -> N
     doc = Document.from_material(material)
     doc.update()  # the document's own flatten is not the viewport's to measure
     # numba compiles its kernels on first use when its on-disk cache is empty (a fresh
-    # clone): one small synchronous load with keep variance first, so the stall
-    # measured is the loading's own
-    small = Document.from_material(with_lobe(bumpy_metal(64), "sampled"))
+    # clone), and llvmpipe compiles a shader variant per texture-size class at the first
+    # draw (a non-power-of-two size is its own class: ~1.3 s on the GUI thread when Mesa's
+    # shader cache is empty, a fresh machine): one small synchronous load with keep
+    # variance first, 96^2 like 384^2 not a power of two, so the stall measured is the
+    # loading's own
+    small = Document.from_material(with_lobe(bumpy_metal(96), "sampled"))
     viewport.set_document(small)
     viewport.set_keep_variance(True)
     viewport.render_image(8)

@@ -13,6 +13,7 @@ Levels are brought up to date lazily and only where the picture changed:
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 
 from ..layers import Rect
@@ -30,13 +31,22 @@ def level_for_zoom(zoom: float) -> int:
 
 
 def _half(block: np.ndarray) -> np.ndarray:
-    """Mean of each 2x2 block of ``(h, w, C)`` uint8 (odd edges repeat their last texel)."""
-    h, w = block.shape[:2]
+    """Mean of each 2x2 block of ``(h, w, C)`` uint8, rounded half up (odd edges repeat
+    their last texel).
+
+    OpenCV's area resize to exactly half size computes this mean, ``(sum + 2) >> 2``, for
+    up to 4 channels (more take another rounding), hence groups of 4. A 2K picture's
+    level 1 takes ~1 ms there against ~65 ms in numpy (widen, add, narrow): the GUI
+    thread paid that whenever the whole picture changed.
+    """
+    h, w, channels = block.shape
     if h % 2 or w % 2:
         block = np.pad(block, ((0, h % 2), (0, w % 2), (0, 0)), mode="edge")
-    wide = block.astype(np.uint16)
-    total = wide[0::2, 0::2] + wide[1::2, 0::2] + wide[0::2, 1::2] + wide[1::2, 1::2]
-    return ((total + 2) >> 2).astype(np.uint8)
+    if channels > 4:
+        return np.concatenate([_half(block[:, :, c : c + 4]) for c in range(0, channels, 4)], 2)
+    half_h, half_w = block.shape[0] // 2, block.shape[1] // 2
+    half = cv2.resize(block, (half_w, half_h), interpolation=cv2.INTER_AREA)
+    return half.reshape(half_h, half_w, channels)  # OpenCV drops a lone channel's axis
 
 
 class MipPyramid:
