@@ -6,7 +6,9 @@ Each script runs in its own process (numba's threads and caches start fresh)
 and reports its goals as ``GOAL`` lines (``_common.goal``); scripts without a
 goal are listed with how they ended. The ratio is the median of the script's
 paired runs, with their spread; the load average is printed with the table
-because these ratios move with it on a shared machine.
+because these ratios move with it on a shared machine, and the CPU because they
+move with that too (the compiled kernels' vector width: levels read 2.7-3.3 on an
+Intel with AVX-512, 3.8-5.0 on an AMD EPYC with AVX2).
 """
 
 from __future__ import annotations
@@ -49,6 +51,23 @@ def run(script: Path, timeout: float) -> tuple[list[list[str]], str]:
     return rows, f"{ended}, {time.perf_counter() - start:.0f} s"
 
 
+def cpu() -> str:
+    """The CPU's model, LLVM's name for it (what numba compiles for) and its widest vectors."""
+    from llvmlite import binding
+
+    model = "unknown model"
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as info:
+            model = next(
+                line.split(":", 1)[1].strip() for line in info if line.startswith("model name")
+            )
+    except (OSError, StopIteration):
+        pass
+    features = binding.get_host_cpu_features()
+    vectors = "AVX-512" if features.get("avx512f") else "AVX2" if features.get("avx2") else "SSE"
+    return f"CPU {model} (LLVM {binding.get_host_cpu_name()}, {vectors})"
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="*", help="script names (without .py) to run")
@@ -77,6 +96,7 @@ def main() -> int:
         f"{' '.join(f'{x:.2f}' for x in load_before)} before, "
         f"{' '.join(f'{x:.2f}' for x in load_after)} after; {os.cpu_count()} CPUs"
     )
+    print(cpu())
     for line in ended:
         print(f"  {line}")
     return 0
