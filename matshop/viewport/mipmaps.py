@@ -43,7 +43,8 @@ def _half(block: np.ndarray) -> np.ndarray:
     if h % 2 or w % 2:
         block = np.pad(block, ((0, h % 2), (0, w % 2), (0, 0)), mode="edge")
     if channels > 4:
-        return np.concatenate([_half(block[:, :, c : c + 4]) for c in range(0, channels, 4)], 2)
+        groups = [_half(block[:, :, first : first + 4]) for first in range(0, channels, 4)]
+        return np.concatenate(groups, axis=2)
     half_h, half_w = block.shape[0] // 2, block.shape[1] // 2
     half = cv2.resize(block, (half_w, half_h), interpolation=cv2.INTER_AREA)
     return half.reshape(half_h, half_w, channels)  # OpenCV drops a lone channel's axis
