@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import buffers
 from .errors import InvalidValue, UnknownName
 from .spaces import Space, get_space
 from .spaces._kernels import run_steps
@@ -226,7 +227,7 @@ class Material:
     def to_edit(self, progress: ProgressCallback | None = None) -> EditMaterial:
         """Convert every parameter into its editing space, concatenated per texel."""
         height, width = self.size
-        edit = np.empty((height, width, self.schema.edit_width), dtype=np.float32)
+        edit = buffers.empty((height, width, self.schema.edit_width))
         slices = self.schema.edit_slices
         # spaces that are one kernel step convert together, in one pass over the texels
         fused = [(p, p.space.to_edit_step()) for p in self.schema.parameters]
@@ -297,7 +298,7 @@ class EditMaterial:
         """Convert back through every space's ``from_edit`` (clamping happens here)."""
         height, width = self.size
         maps = {
-            p.name: np.empty((height, width, p.phys_channels), dtype=np.float32)
+            p.name: buffers.empty((height, width, p.phys_channels))
             for p in self.schema.parameters
         }
         slices = self.schema.edit_slices

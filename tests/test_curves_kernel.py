@@ -226,6 +226,34 @@ def test_percentiles_are_numpys() -> None:
             assert np.array_equal(percentiles(values, cuts), np.percentile(values, cuts, axis=0))
 
 
+def _hard_columns(rng: np.random.Generator, count: int) -> np.ndarray:
+    """Columns as real maps have them: flat areas, a few levels, both zeros, huge ranges."""
+    normal = rng.normal(size=count)
+    return np.stack(
+        [
+            np.where(rng.random(count) < 0.75, 0.0, np.abs(normal)),  # a flat normal map
+            rng.integers(0, 2, count).astype(float),  # metallic: 0 or 1
+            np.round(rng.random(count) * 255) / 255,  # 8-bit levels
+            np.where(rng.random(count) < 0.5, -0.0, normal),  # both zeros
+            rng.random(count) ** 8 * 1e30,  # many octaves
+            np.full(count, 0.25),  # constant
+        ],
+        axis=1,
+    )
+
+
+@pytest.mark.parametrize("count", [1, 3, 70, 5000, 1 << 18])
+def test_percentiles_of_real_looking_columns_are_numpys(count: int) -> None:
+    """The radix select (``_order``) against numpy's sort, on the columns that put most
+    values into one bucket; float32 and float64 (a frame's magnitudes), any cut."""
+    rng = np.random.default_rng(count)
+    values = _hard_columns(rng, count)
+    for dtype in (np.float32, np.float64):
+        for cuts in ([0.5, 50.0, 99.5], [0.0, 100.0], [12.3, 12.4, 77.0]):
+            expected = np.percentile(values.astype(dtype), cuts, axis=0)
+            assert np.array_equal(percentiles(values.astype(dtype), cuts), expected)
+
+
 def test_the_sample_is_the_fixed_random_draw_of_texels() -> None:
     """Channel by channel (planes), from a strided channel slice and a contiguous block."""
     edit = np.random.default_rng(4).random((600, 520, 5), dtype=np.float32)

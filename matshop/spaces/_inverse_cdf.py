@@ -31,6 +31,7 @@ from typing import Literal
 import numpy as np
 from numba import get_num_threads, njit, prange
 
+from .. import buffers
 from ._kernels import _PIO2_1, _PIO2_1T
 from ._pchip import eval_pieces, find_intervals, pchip_pieces
 
@@ -478,7 +479,7 @@ def pdf_to_quantiles(
     if rows.ndim != 2:
         raise ValueError(f"pdf_to_quantiles: expected (P, N), got {rows.shape}")
     if out is None:
-        out = np.empty((rows.shape[0], len(y)), dtype=np.float32)
+        out = buffers.empty((rows.shape[0], len(y)))
     total = np.empty(rows.shape[0], dtype=np.float64)
     _rows_to_quantiles(
         rows,
@@ -519,7 +520,7 @@ def quantiles_to_pdf(
         raise ValueError(f"quantiles_to_pdf: expected (P, M), got {rows.shape}")
     weights = np.asarray(weights, dtype=np.float64)
     if out is None:
-        out = np.empty((rows.shape[0], weights.shape[0]), dtype=np.float32)
+        out = buffers.empty((rows.shape[0], weights.shape[0]))
     _rows_to_pdf(
         rows,
         np.asarray(y, dtype=np.float64),

@@ -16,6 +16,7 @@ from typing import Literal
 
 import numpy as np
 
+from .. import buffers
 from ._kernels import Step
 
 #: How curves and range-normalisation treat the edit channels:
@@ -118,12 +119,12 @@ class FusedSpace(Space):
 
     def to_edit(self, phys: np.ndarray) -> np.ndarray:
         phys = as_channels(phys, self.phys_channels, self.name)
-        out = np.empty((*phys.shape[:-1], self.edit_channels), dtype=np.float32)
+        out = buffers.empty((*phys.shape[:-1], self.edit_channels))
         return self._to_edit_into(phys, out)
 
     def from_edit(self, edit: np.ndarray) -> np.ndarray:
         edit = as_channels(edit, self.edit_channels, self.name)
-        out = np.empty((*edit.shape[:-1], self.phys_channels), dtype=np.float32)
+        out = buffers.empty((*edit.shape[:-1], self.phys_channels))
         return self._from_edit_into(edit, out)
 
     def to_edit_into(self, phys: np.ndarray, out: np.ndarray) -> np.ndarray:

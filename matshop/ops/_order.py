@@ -1,0 +1,85 @@
+"""Order statistics of float planes without sorting them: a radix select.
+
+A tone range needs three percentiles (six order statistics) of each channel
+of a 2^18-texel sample. Sorting every plane for them took two thirds of the
+ranges' time (10 channels, 2.2 ms a plane); this reads each plane twice
+instead: a histogram of the values' top 16 bits (as sortable integers), then
+the values of the few buckets that hold a wanted rank, which are sorted
+alone. The results are the same values a full sort gives, bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+#: the histogram's buckets: the top bits of the sortable key
+_BUCKET_BITS = 16
+
+
+@njit(inline="always", nogil=True)
+def _bucket(value):
+    """The histogram bucket of ``value``: never smaller for a larger value.
+
+    The top bits of the value rounded to float32 (rounding keeps the order, so
+    float64 planes work too), read as an unsigned integer that orders like the
+    float: negatives have every bit flipped, others only the sign bit.
+    """
+    bits = np.int64(np.float32(value).view(np.int32))
+    flip = (bits >> 31) | 0x80000000  # all ones for negatives, the sign bit else
+    return ((bits ^ flip) & 0xFFFFFFFF) >> (32 - _BUCKET_BITS)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _wanted_buckets(plane, ranks):
+    """The values of the buckets that hold ``ranks`` (ascending), bucket by bucket.
+
+    Returns ``(values, first, slot, before)``: bucket ``s`` is
+    ``values[first[s]:first[s + 1]]``, rank ``j`` lies in bucket ``slot[j]``
+    with ``before[j]`` smaller values in the buckets below it.
+    """
+    counts = np.zeros(1 << _BUCKET_BITS, dtype=np.int64)
+    for v in plane:
+        counts[_bucket(v)] += 1
+    # ascending ranks give ascending buckets: one walk assigns the slots
+    wanted = ranks.shape[0]
+    slot_of = np.full(1 << _BUCKET_BITS, -1, dtype=np.int64)
+    slot = np.empty(wanted, dtype=np.int64)
+    before = np.empty(wanted, dtype=np.int64)
+    first = np.zeros(wanted + 1, dtype=np.int64)
+    bucket, below, slots = 0, 0, 0
+    for j in range(wanted):
+        while below + counts[bucket] <= ranks[j]:
+            below += counts[bucket]
+            bucket += 1
+        if slot_of[bucket] < 0:
+            slot_of[bucket] = slots
+            first[slots + 1] = first[slots] + counts[bucket]
+            slots += 1
+        slot[j], before[j] = slot_of[bucket], below
+    values = np.empty(first[slots], dtype=plane.dtype)
+    filled = first[:slots].copy()
+    for v in plane:
+        s = slot_of[_bucket(v)]
+        if s >= 0:
+            values[filled[s]] = v
+            filled[s] += 1
+    return values, first[: slots + 1], slot, before
+
+
+def order_statistics(planes: np.ndarray, ranks: np.ndarray) -> np.ndarray:
+    """``np.sort(planes, axis=1)[:, ranks]`` for ``planes`` (k, n) of finite floats
+    and ascending ``ranks`` in ``[0, n)``, without sorting whole rows.
+
+    The wanted buckets are sorted by numpy: on real maps most values can share
+    one bucket (the flat three quarters of the chessboard's normals, metallic's
+    zeros), and numba's own sort took 6-8 ms on such a bucket, numpy's 1.
+    """
+    ranks = np.asarray(ranks, dtype=np.int64)
+    out = np.empty((planes.shape[0], ranks.size), dtype=planes.dtype)
+    for row, plane in zip(out, planes, strict=True):
+        values, first, slot, before = _wanted_buckets(np.ascontiguousarray(plane), ranks)
+        for start, stop in zip(first[:-1], first[1:], strict=True):
+            values[start:stop].sort()
+        row[:] = values[first[slot] + ranks - before]
+    return out
