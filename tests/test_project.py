@@ -215,6 +215,31 @@ def test_2k_round_trip_is_bit_identical(tmp_path: Path) -> None:
     assert_same_document(doc, load_project(path).document)
 
 
+def test_layers_are_inflated_a_chunk_at_a_time(
+    sample_doc: Document, tmp_path: Path, monkeypatch
+) -> None:
+    """zipfile joins what one read inflates into one bytes object while holding the GIL
+    (a 2K layer read whole held it ~140 ms: the editor's event loop stalled on reopen),
+    so members are read in chunks: every read of the real loader, counted, is bounded."""
+    from matshop.io import project_store
+
+    path = tmp_path / "sample.matshop"
+    save_project(sample_doc, path)
+    monkeypatch.setattr(project_store, "_READ_CHUNK", 4096)
+    asked: list[int] = []
+    real_read = zipfile.ZipExtFile.read
+
+    def counted_read(self, n=-1):
+        asked.append(n)
+        return real_read(self, n)
+
+    monkeypatch.setattr(zipfile.ZipExtFile, "read", counted_read)
+    assert_same_document(sample_doc, load_project(path).document)
+    biggest = max(info.file_size for info in zipfile.ZipFile(path).infolist())
+    assert biggest > 10 * 4096 and len(asked) > biggest // 4096  # chunks were read
+    assert all(0 < n <= 4096 + 1 for n in asked)
+
+
 def test_an_empty_layer_adds_little(tmp_path: Path) -> None:
     material, _ = load_material(SAMPLE)
     doc = Document.from_material(material)

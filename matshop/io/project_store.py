@@ -225,14 +225,34 @@ def _read_manifest(archive: zipfile.ZipFile) -> ManifestSpec:
 
 
 def _read_bytes(archive: zipfile.ZipFile, info: zipfile.ZipInfo) -> bytes:
+    return _read_array(archive, info).tobytes()
+
+
+#: bytes decompressed at a time: zipfile joins what one read inflates into one
+#: bytes object holding the GIL, so a whole 2K layer (64 MB) read at once held it
+#: ~140 ms, a stall of the editor's event loop while a project reopens
+_READ_CHUNK = 4 << 20
+
+
+def _read_array(archive: zipfile.ZipFile, info: zipfile.ZipInfo) -> np.ndarray:
+    """A member's bytes as a uint8 array, read a chunk at a time."""
+    out = np.empty(info.file_size, dtype=np.uint8)
+    filled = 0
     try:
         with archive.open(info) as member:
-            data = member.read(info.file_size + 1)
+            while True:
+                # one byte more than is left: a longer member shows itself
+                chunk = member.read(min(_READ_CHUNK, info.file_size - filled + 1))
+                if not chunk or filled + len(chunk) > info.file_size:
+                    filled += len(chunk)
+                    break
+                out[filled : filled + len(chunk)] = np.frombuffer(chunk, dtype=np.uint8)
+                filled += len(chunk)
     except _ZIP_ERRORS as exc:
         raise FormatProblem(f"member {info.filename} is damaged or truncated ({exc})") from None
-    if len(data) != info.file_size:
+    if filled != info.file_size:
         raise FormatProblem(f"member {info.filename} is damaged or truncated (wrong length)")
-    return data
+    return out
 
 
 def _check_members(
@@ -270,14 +290,13 @@ def _read_member(
     archive: zipfile.ZipFile, info: zipfile.ZipInfo, ref: GridSpec | ArraySpec
 ) -> np.ndarray:
     """A member's values, checked: float32 tiles/arrays finite, booleans 0 or 1."""
-    data = _read_bytes(archive, info)
+    data = _read_array(archive, info)
     dtype = TILE_DTYPE if isinstance(ref, GridSpec) else ref.dtype
     if dtype == "|b1":
-        raw = np.frombuffer(data, dtype=np.uint8)
-        if raw.size and raw.max() > 1:
+        if data.size and data.max() > 1:
             raise FormatProblem(f"{ref.what} holds values other than true and false")
-        return raw.view(bool).reshape(ref.shape)  # type: ignore[union-attr]
-    values = np.frombuffer(data, dtype=dtype)
+        return data.view(bool).reshape(ref.shape)  # type: ignore[union-attr]
+    values = data.view(dtype)
     assert values.itemsize == ARRAY_DTYPES[dtype]
     if not np.isfinite(values).all():
         raise FormatProblem(f"{ref.what} holds NaN or infinite values")
