@@ -22,7 +22,7 @@ from matshop.io.material_io import load_material
 from matshop.material import Schema
 from matshop.ops.curves import curve_lut, curve_ranges, curves, levels, levels_lut
 from matshop.ops.selection import Selection
-from matshop.ops.tone_range import MAX_SAMPLES, _sample, percentiles, tail_slope
+from matshop.ops.tone_range import MAX_SAMPLES, SAMPLE_RUN, _sample, percentiles, tail_slope
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
 SCHEMA = Schema.from_names(["base_color", "distribution", "normal", "metallic"])
@@ -254,10 +254,19 @@ def test_percentiles_of_real_looking_columns_are_numpys(count: int) -> None:
             assert np.array_equal(percentiles(values.astype(dtype), cuts), expected)
 
 
+def _drawn_index(texels: int) -> np.ndarray:
+    """The documented draw: runs of SAMPLE_RUN consecutive texels from seed 0's starts."""
+    starts = np.random.default_rng(0).integers(
+        0, texels - SAMPLE_RUN + 1, MAX_SAMPLES // SAMPLE_RUN
+    )
+    return np.concatenate([np.arange(start, start + SAMPLE_RUN) for start in np.sort(starts)])
+
+
 def test_the_sample_is_the_fixed_random_draw_of_texels() -> None:
     """Channel by channel (planes), from a strided channel slice and a contiguous block."""
     edit = np.random.default_rng(4).random((600, 520, 5), dtype=np.float32)
-    index = np.sort(np.random.default_rng(0).integers(0, 600 * 520, MAX_SAMPLES))
+    index = _drawn_index(600 * 520)
+    assert index.size == MAX_SAMPLES
     rows, cols = np.divmod(index, 520)
     for block in (edit[..., 1:4], edit):  # a channel slice, as curves sees it
         assert np.array_equal(_sample(block), block[rows, cols].T)
@@ -273,7 +282,7 @@ def test_ranges_are_the_percentiles_of_the_drawn_texels() -> None:
     edit[7, 9, 0] = np.nan
     edit[8, 9, SCHEMA.edit_slices["normal"].start] = np.inf
     selection = Selection(edit, schema=SCHEMA, params=None, mask=None, op="curves")
-    index = np.sort(np.random.default_rng(0).integers(0, 700 * 400, MAX_SAMPLES))
+    index = _drawn_index(700 * 400)
     drawn = edit.reshape(-1, edit.shape[2])[index].astype(np.float64)
     ranges = curve_ranges(edit, schema=SCHEMA)
     for group, tone in zip(selection.groups, ranges, strict=True):

@@ -80,6 +80,8 @@ def order_statistics(planes: np.ndarray, ranks: np.ndarray) -> np.ndarray:
     for row, plane in zip(out, planes, strict=True):
         values, first, slot, before = _wanted_buckets(np.ascontiguousarray(plane), ranks)
         for start, stop in zip(first[:-1], first[1:], strict=True):
-            values[start:stop].sort()
+            bucket = values[start:stop]
+            if bucket.min() != bucket.max():  # a flat area's one value needs no sort
+                bucket.sort()
         row[:] = values[first[slot] + ranks - before]
     return out

@@ -23,13 +23,18 @@ it. Two choices (the ops' ``remap`` parameter):
 A group whose data range is (nearly) empty -- a flat normal map, a constant
 color -- falls back to the space's range, so a curve on it still does something
 predictable instead of dividing by zero. Percentiles come from at most
-:data:`MAX_SAMPLES` texels drawn with a fixed seed (a robust statistic needs
-no more, and a 4K map stays cheap).
+:data:`MAX_SAMPLES` texels drawn with a fixed seed, in runs of
+:data:`SAMPLE_RUN` neighbours (a robust statistic needs no more, and a 4K map
+stays cheap). On the real 10-channel set the runs' 0.5th / 50th / 99.5th
+percentiles differ from all texels' about as much as single texels' do
+(scalars within 3% of the robust span either way, three draws each; the flat
+normal map's magnitudes, three quarters zero, move more, and as much either way).
 """
 
 from __future__ import annotations
 
 import functools
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Literal
 
@@ -46,6 +51,10 @@ REMAPS: tuple[str, ...] = ("data", "space")
 CLIP_PERCENT = 0.5
 #: texels read at most for the percentiles
 MAX_SAMPLES = 1 << 18
+#: consecutive texels per random place of the draw: whole cache lines, read in order
+#: (texel by texel the draw read most lines of the map: 4.5 ms of a 2K colour map's
+#: 9 ms ranges)
+SAMPLE_RUN = 16
 #: a data range narrower than this fraction of the space's span counts as empty
 _MIN_SPAN_FRACTION = 1e-4
 
@@ -86,9 +95,12 @@ def _space_range(group: ChannelGroup) -> tuple[float, float]:
 
 @functools.lru_cache(maxsize=8)
 def _sample_index(height: int, width: int) -> np.ndarray:
-    """Sorted flat indices of :data:`MAX_SAMPLES` texels, a fixed draw per image size."""
-    index = np.random.default_rng(0).integers(0, height * width, MAX_SAMPLES)
-    index.sort()
+    """Flat indices of :data:`MAX_SAMPLES` texels, a fixed draw per image size:
+    runs of :data:`SAMPLE_RUN` consecutive texels at random places, in order of place."""
+    runs = MAX_SAMPLES // SAMPLE_RUN
+    starts = np.random.default_rng(0).integers(0, height * width - SAMPLE_RUN + 1, runs)
+    starts.sort()
+    index = (starts[:, None] + np.arange(SAMPLE_RUN)).reshape(-1)
     index.flags.writeable = False
     return index
 
@@ -96,9 +108,10 @@ def _sample_index(height: int, width: int) -> np.ndarray:
 def _sample(block: np.ndarray) -> np.ndarray:
     """At most :data:`MAX_SAMPLES` texels as planes ``(k, n)``, drawn with a fixed seed.
 
-    Random rather than strided: a regular stride aliases with axis-aligned
-    structure (a board's 1-2 texel bevels are all hit or all missed, which moved
-    the chessboard's 99.5th tilt percentile from 9.2 to 6.9 degrees); a fixed
+    Random places rather than a stride (the runs along a row are short): a
+    regular stride aliases with axis-aligned structure (a board's 1-2 texel
+    bevels are all hit or all missed, which moved the chessboard's 99.5th tilt
+    percentile from 9.2 to 6.9 degrees); a fixed
     seed keeps every run, tile and preview identical. Planes, so each channel's
     sort and a vector's magnitudes read contiguous values.
     """
@@ -166,6 +179,17 @@ def tail_slope(remap: Remap) -> float:
     return 1.0 if remap == "data" else -1.0
 
 
+def _finite_values(planes: np.ndarray, group: ChannelGroup) -> np.ndarray:
+    """The group's sampled values ``(k, n)`` at the texels where all of them are finite."""
+    values = _plane_values(planes, group)
+    finite = np.isfinite(values).all(axis=0)
+    return values if finite.all() else values[:, finite]
+
+
+#: the planes' percentiles side by side (the selects and numpy's sorts let go of the GIL)
+_WORKERS = ThreadPoolExecutor(max_workers=2, thread_name_prefix="matshop-ranges")
+
+
 def tone_ranges(
     block: np.ndarray,
     groups: list[ChannelGroup],
@@ -176,26 +200,34 @@ def tone_ranges(
     """One :class:`ToneRange` per group of the selected ``block`` ``(H, W, k)``."""
     if remap not in REMAPS:
         raise InvalidValue(f"unknown remap {remap!r} (use {' or '.join(REMAPS)})")
-    planes = _sample(block) if remap == "data" else None
+    found: list[np.ndarray | None] = [None] * len(groups)
+    if remap == "data":
+        planes = _sample(block)
+        cuts = [clip_percent, 50.0, 100.0 - clip_percent]
+        values = [_finite_values(planes, group) for group in groups]
+        rows = [
+            row[None] for group_values in values if group_values.shape[1] for row in group_values
+        ]
+        per_row = iter(_WORKERS.map(lambda row: _plane_percentiles(row, cuts), rows))
+        found = [
+            np.concatenate([next(per_row) for _ in group_values], axis=1)
+            if group_values.shape[1]
+            else None
+            for group_values in values
+        ]
     out = []
-    for group in groups:
+    for group, percentiles_found in zip(groups, found, strict=True):
         vector = group.curve_mode == "vector"
         count = 1 if vector else len(group.channels)
         space_lo, space_span = _space_range(group)
         lo = np.full(count, space_lo)
         span = np.full(count, space_span)
         source = ["space"] * count
-        if planes is not None:
-            values = _plane_values(planes, group)
-            finite = np.isfinite(values).all(axis=0)
-            if not finite.all():
-                values = values[:, finite]
-            if values.shape[1]:
-                cuts = [clip_percent, 50.0, 100.0 - clip_percent]
-                low, median, high = _plane_percentiles(values, cuts)
-                for c in range(count):
-                    reach = max(median[c] - low[c], high[c] - median[c])
-                    if reach > 0.5 * _MIN_SPAN_FRACTION * space_span:
-                        lo[c], span[c], source[c] = median[c] - reach, 2.0 * reach, "data"
+        if percentiles_found is not None:
+            low, median, high = percentiles_found
+            for c in range(count):
+                reach = max(median[c] - low[c], high[c] - median[c])
+                if reach > 0.5 * _MIN_SPAN_FRACTION * space_span:
+                    lo[c], span[c], source[c] = median[c] - reach, 2.0 * reach, "data"
         out.append(ToneRange(group.name, vector, lo, span, tuple(source)))
     return out
