@@ -1,8 +1,8 @@
 """Large result arrays whose memory is reused once nothing refers to them.
 
-A fresh array of tens of MB is not memory yet: the kernel maps each page, and
-the kernel zeroes it, on the first write. At 2K x 10 channels (168 MB) that
-costs as long as copying the array (27 ms here), on every call: a levels
+A fresh array of tens of MB is not memory yet: the operating system maps and
+zeroes each page at its first write. At 2K x 10 channels (168 MB) that costs
+as long as copying the array (27 ms here), on every call: a levels
 preview while a slider moves, the round trip of a set, each op of a chain. A
 pipeline drops its previous result as it makes the next one of the same size,
 so :func:`empty` hands out memory that an earlier result left: pages already
@@ -28,8 +28,6 @@ import numpy as np
 MIN_BYTES = 1 << 20
 #: free buffers kept for reuse at most, in bytes
 IDLE_LIMIT = 1 << 30
-
-
 #: bytes per page (with transparent huge pages one store per 2 MiB would do)
 _PAGE = 4096
 
