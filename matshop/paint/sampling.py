@@ -77,12 +77,15 @@ def sample_placed(
     centre: tuple[float, float],
     scale: float,
     angle_deg: float,
-) -> tuple[np.ndarray, np.ndarray]:
+    *,
+    with_inside: bool = True,
+) -> tuple[np.ndarray, np.ndarray | None]:
     """The placed image at the centres of texels ``[x0, x0 + width) x [y0, y0 + height)``.
 
     Returns ``(values, inside)``, both ``(height, width)``: bilinear samples of
     the pyramid level matching ``scale`` (texels per image pixel), and whether
-    each texel centre falls on the image.
+    each texel centre falls on the image (None unless ``with_inside``: a tip
+    needs only its values, which then skip the texels past a zero border).
     """
     level = pyramid.level_for(scale)
     cos, sin = _cos_sin(math.radians(angle_deg))
@@ -90,7 +93,7 @@ def sample_placed(
     # screen, where y points down (so R = [[cos, sin], [-sin, cos]] in x, y)
     h, w = pyramid.shape
     values = np.empty((height, width), np.float32)
-    inside = np.empty((height, width), np.bool_)
+    inside = np.empty((height, width) if with_inside else (0, 0), np.bool_)
     sample_block(
         pyramid.padded[level],
         x0,
@@ -108,7 +111,7 @@ def sample_placed(
         values,
         inside,
     )
-    return values, inside
+    return values, inside if with_inside else None
 
 
 def read_gray(path: str | os.PathLike[str], what: str) -> np.ndarray:

@@ -99,5 +99,7 @@ def tip_footprint(
     y0 = int(np.floor(y - reach))
     size_x = int(np.ceil(x + reach)) - x0
     size_y = int(np.ceil(y + reach)) - y0
-    alpha, _ = sample_placed(tip.pyramid, x0, y0, size_y, size_x, (x, y), scale, angle_deg)
+    alpha, _ = sample_placed(
+        tip.pyramid, x0, y0, size_y, size_x, (x, y), scale, angle_deg, with_inside=False
+    )
     return x0, y0, alpha
