@@ -128,6 +128,42 @@ def test_a_tip_dab_is_the_tip_warped_to_its_size_and_angle(
     assert np.abs(dab - opencv).max() < 0.03
 
 
+@pytest.mark.parametrize("outside", ["zero", "clamp"])
+def test_skipping_the_columns_past_the_image_changes_no_value(outside) -> None:
+    """A tip's dab skips each row's columns past a zero border; every value must equal the
+    one the texel-by-texel loop (the stencils' path, which also returns ``inside``)
+    gives: random placements, scales and levels, exact and near right angles (a step
+    near 0 puts the columns' bounds past any integer)."""
+    from matshop.paint._sample_kernel import sample_block
+    from matshop.paint.sampling import Pyramid
+
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        h, w = (int(n) for n in rng.integers(1, 90, 2))
+        pyramid = Pyramid(rng.random((h, w), dtype=np.float32), outside=outside)
+        # the coarsest levels half the time: their factor makes the step nearest 0
+        top = len(pyramid.padded) - 1
+        level = top if rng.random() < 0.5 else int(rng.integers(0, top + 1))
+        scale = float(rng.uniform(0.05, 6.0))
+        turn = math.radians(float(rng.choice([0, 90, 90 + 1e-12, 45, 1e-9, rng.uniform(0, 360)])))
+        cos, sin = math.cos(turn), math.sin(turn)
+        size = tuple(int(n) for n in rng.integers(1, 200, 2))
+        args = (
+            pyramid.padded[level],
+            int(rng.integers(-50, 50)),
+            int(rng.integers(-50, 50)),
+            float(rng.uniform(-20, 120)),
+            float(rng.uniform(-20, 120)),
+            cos / scale, -sin / scale, sin / scale, cos / scale,
+            w / 2.0, h / 2.0, float(1 << level), outside == "clamp",
+        )  # fmt: skip
+        every, inside = np.empty(size, np.float32), np.empty(size, np.bool_)
+        sample_block(*args, every, inside)
+        skipping = np.empty(size, np.float32)
+        sample_block(*args, skipping, np.empty((0, 0), np.bool_))
+        assert np.array_equal(skipping, every)
+
+
 def test_a_tip_drawn_small_is_box_filtered_not_aliased(tmp_path) -> None:
     rng = np.random.default_rng(5)
     pixels = (rng.random((64, 64)) > 0.5).astype(np.uint8) * 255  # worst case: white noise
