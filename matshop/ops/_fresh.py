@@ -24,11 +24,7 @@ from .. import buffers
 _TOUCHER = ThreadPoolExecutor(max_workers=1, thread_name_prefix="matshop-touch")
 
 
-def empty_touched(shape: tuple[int, ...], dtype=np.float32) -> np.ndarray:
-    """``np.empty(shape, dtype)`` whose pages are mapped (reused, or one zero written per page)."""
-    return buffers.empty(shape, dtype, touched=True)
-
-
 def empty_touched_soon(shape: tuple[int, ...], dtype=np.float32) -> Future[np.ndarray]:
-    """:func:`empty_touched` on a background thread."""
-    return _TOUCHER.submit(empty_touched, shape, dtype)
+    """``np.empty(shape, dtype)`` with its pages mapped (reused, or one zero written per
+    page), made on a background thread."""
+    return _TOUCHER.submit(buffers.empty, shape, dtype, touched=True)
