@@ -262,15 +262,19 @@ def _vectors_row(src, vectors, bounds, quadrature, ranges, breaks, coeffs, power
         # a frame (three adjacent channels of unit weight) without the index lists
         frame = stop - first == 3 and vectors[first + 1] == c0 + 1 and vectors[first + 2] == c0 + 2
         frame = frame and q32[first] == 1 and q32[first + 1] == 1 and q32[first + 2] == 1
+        # unsigned indices: a signed one is checked for wraparound at every load
+        u0 = np.uint64(c0)
+        u1, u2 = u0 + np.uint64(1), u0 + np.uint64(2)
         if frame:
             for col in range(src.shape[0]):
-                v0, v1, v2 = src[col, c0], src[col, c0 + 1], src[col, c0 + 2]
+                at = np.uint64(col)
+                v0, v1, v2 = src[at, u0], src[at, u1], src[at, u2]
                 gain[col] = v0 * v0 + v1 * v1 + v2 * v2
         else:
             for col in range(src.shape[0]):
                 sq = zero
                 for i in range(first, stop):
-                    v = src[col, vectors[i]]
+                    v = src[np.uint64(col), np.uint64(vectors[i])]
                     sq += q32[i] * v * v
                 gain[col] = sq
         if power[2] != 1.0:
@@ -291,14 +295,16 @@ def _vectors_row(src, vectors, bounds, quadrature, ranges, breaks, coeffs, power
                 gain[col] = mapped / m if m > zero else zero
         if frame:
             for col in range(src.shape[0]):
-                out[col, c0] = src[col, c0] * gain[col]
-                out[col, c0 + 1] = src[col, c0 + 1] * gain[col]
-                out[col, c0 + 2] = src[col, c0 + 2] * gain[col]
+                at = np.uint64(col)
+                out[at, u0] = src[at, u0] * gain[col]
+                out[at, u1] = src[at, u1] * gain[col]
+                out[at, u2] = src[at, u2] * gain[col]
         else:
             for col in range(src.shape[0]):
+                at = np.uint64(col)
                 for i in range(first, stop):
-                    c = vectors[i]
-                    out[col, c] = src[col, c] * gain[col]
+                    c = np.uint64(vectors[i])
+                    out[at, c] = src[at, c] * gain[col]
 
 
 @njit(parallel=True, **_FLAGS)
