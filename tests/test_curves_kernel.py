@@ -274,6 +274,28 @@ def test_the_sample_is_the_fixed_random_draw_of_texels() -> None:
     assert np.array_equal(_sample(small), small.reshape(-1, 5).T)
 
 
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf, -np.nan])
+def test_a_value_that_is_not_finite_leaves_its_texel_out_of_its_group_only(bad) -> None:
+    """Every texel is read (fewer than the draw): each group's range is ``np.percentile``
+    over the texels where all its channels are finite, whichever kind of value is not."""
+    edit = edit_array(120, 90)
+    colour = SCHEMA.edit_slices["base_color"]
+    normal = SCHEMA.edit_slices["normal"]
+    edit[7, 9, colour.start + 1] = bad
+    edit[50:52, 3, normal.start + 2] = bad
+    selection = Selection(edit, schema=SCHEMA, params=None, mask=None, op="curves")
+    texels = edit.reshape(-1, edit.shape[2]).astype(np.float64)
+    for group, tone in zip(selection.groups, curve_ranges(edit, schema=SCHEMA), strict=True):
+        values = texels[:, selection.channels[group.channels]]
+        if tone.vector:
+            values = np.sqrt((values**2 * group.quadrature).sum(axis=1, keepdims=True))
+        kept = np.isfinite(values).all(axis=1)
+        assert kept.sum() == texels.shape[0] - {"base_color": 1, "normal": 2}.get(group.name, 0)
+        low, median, high = np.percentile(values[kept], [0.5, 50.0, 99.5], axis=0)
+        reach = np.maximum(median - low, high - median)
+        np.testing.assert_allclose(tone.lo, median - reach, rtol=1e-6, atol=1e-7)
+
+
 def test_ranges_are_the_percentiles_of_the_drawn_texels() -> None:
     """Each group's range from ``np.percentile`` of its drawn values: per channel, and of
     the magnitude for vectors (a frame, and the 128-channel distribution with its weights);

@@ -15,6 +15,9 @@ from numba import njit
 
 #: the histogram's buckets: the top bits of the sortable key
 _BUCKET_BITS = 16
+#: the first and last bucket of finite values: the keys of -max and +max float32
+#: (infinities and NaNs sort outside them)
+_FINITE_BUCKETS = (0x00800000 >> (32 - _BUCKET_BITS), 0xFF7FFFFF >> (32 - _BUCKET_BITS))
 
 
 @njit(inline="always", nogil=True)
@@ -27,7 +30,8 @@ def _bucket(value):
     """
     bits = np.int64(np.float32(value).view(np.int32))
     flip = (bits >> 31) | 0x80000000  # all ones for negatives, the sign bit else
-    return ((bits ^ flip) & 0xFFFFFFFF) >> (32 - _BUCKET_BITS)
+    # unsigned: an index known not to be negative needs no wraparound check
+    return np.uint64(((bits ^ flip) & 0xFFFFFFFF) >> (32 - _BUCKET_BITS))
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -36,11 +40,21 @@ def _wanted_buckets(plane, ranks):
 
     Returns ``(values, first, slot, before)``: bucket ``s`` is
     ``values[first[s]:first[s + 1]]``, rank ``j`` lies in bucket ``slot[j]``
-    with ``before[j]`` smaller values in the buckets below it.
+    with ``before[j]`` smaller values in the buckets below it; None when the
+    plane holds an infinity or a NaN (or, as float32, a float64 beyond its range).
     """
-    counts = np.zeros(1 << _BUCKET_BITS, dtype=np.int64)
-    for v in plane:
-        counts[_bucket(v)] += 1
+    # two histograms, even and odd places: a run of equal values (a flat area) then
+    # makes two chains of increments of one counter, not one twice as long
+    halves = np.zeros((2, 1 << _BUCKET_BITS), dtype=np.int32)
+    pairs = plane.shape[0] // 2
+    for i in range(pairs):
+        halves[0, _bucket(plane[2 * i])] += 1
+        halves[1, _bucket(plane[2 * i + 1])] += 1
+    if plane.shape[0] % 2:
+        halves[0, _bucket(plane[-1])] += 1
+    counts = halves[0].astype(np.int64) + halves[1]
+    if counts[:_FINITE_BUCKETS[0]].sum() + counts[_FINITE_BUCKETS[1] + 1 :].sum() > 0:
+        return None
     # ascending ranks give ascending buckets: one walk assigns the slots
     wanted = ranks.shape[0]
     slot_of = np.full(1 << _BUCKET_BITS, -1, dtype=np.int64)
@@ -67,9 +81,11 @@ def _wanted_buckets(plane, ranks):
     return values, first[: slots + 1], slot, before
 
 
-def order_statistics(planes: np.ndarray, ranks: np.ndarray) -> np.ndarray:
-    """``np.sort(planes, axis=1)[:, ranks]`` for ``planes`` (k, n) of finite floats
-    and ascending ``ranks`` in ``[0, n)``, without sorting whole rows.
+def order_statistics(planes: np.ndarray, ranks: np.ndarray) -> np.ndarray | None:
+    """``np.sort(planes, axis=1)[:, ranks]`` for ``planes`` (k, n) of floats and
+    ascending ``ranks`` in ``[0, n)``, without sorting whole rows; None when a
+    value is not finite (the caller decides which values to drop), found on
+    the way by the histogram at no extra pass.
 
     The wanted buckets are sorted by numpy: on real maps most values can share
     one bucket (the flat three quarters of the chessboard's normals, metallic's
@@ -78,7 +94,10 @@ def order_statistics(planes: np.ndarray, ranks: np.ndarray) -> np.ndarray:
     ranks = np.asarray(ranks, dtype=np.int64)
     out = np.empty((planes.shape[0], ranks.size), dtype=planes.dtype)
     for row, plane in zip(out, planes, strict=True):
-        values, first, slot, before = _wanted_buckets(np.ascontiguousarray(plane), ranks)
+        wanted = _wanted_buckets(np.ascontiguousarray(plane), ranks)
+        if wanted is None:
+            return None
+        values, first, slot, before = wanted
         for start, stop in zip(first[:-1], first[1:], strict=True):
             bucket = values[start:stop]
             if bucket.min() != bucket.max():  # a flat area's one value needs no sort

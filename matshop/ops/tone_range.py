@@ -126,12 +126,16 @@ def _sample(block: np.ndarray) -> np.ndarray:
 
 
 def percentiles(values: np.ndarray, cuts: list[float]) -> np.ndarray:
-    """``np.percentile(values, cuts, axis=0)`` (linear), from one sort per column."""
-    return _plane_percentiles(values.T, cuts)
+    """``np.percentile(values, cuts, axis=0)`` (linear) of finite ``values``."""
+    found = _plane_percentiles(values.T, cuts)
+    if found is None:
+        raise InvalidValue("percentiles of values that are not all finite")
+    return found
 
 
-def _plane_percentiles(planes: np.ndarray, cuts: list[float]) -> np.ndarray:
-    """:func:`percentiles` of the rows of ``planes`` ``(k, n)``: ``(len(cuts), k)``.
+def _plane_percentiles(planes: np.ndarray, cuts: list[float]) -> np.ndarray | None:
+    """:func:`percentiles` of the rows of ``planes`` ``(k, n)``: ``(len(cuts), k)``;
+    None when a value is not finite.
 
     numpy's own partitions once per cut and column, six times slower on the
     2^18 samples, and a full sort of each row is three times slower than the
@@ -144,6 +148,8 @@ def _plane_percentiles(planes: np.ndarray, cuts: list[float]) -> np.ndarray:
     above = np.minimum(below + 1, count - 1)
     ranks, where = np.unique(np.concatenate([below, above]), return_inverse=True)
     ordered = order_statistics(planes, ranks)
+    if ordered is None:
+        return None
     t = (position - below)[:, None]
     a = ordered[:, where[: below.size]].T
     b = ordered[:, where[below.size :]].T
@@ -190,6 +196,31 @@ def _finite_values(planes: np.ndarray, group: ChannelGroup) -> np.ndarray:
 _WORKERS = ThreadPoolExecutor(max_workers=2, thread_name_prefix="matshop-ranges")
 
 
+def _group_percentiles(
+    planes: np.ndarray, groups: list[ChannelGroup], cuts: list[float]
+) -> list[np.ndarray | None]:
+    """Each group's percentiles ``(len(cuts), k)`` over the sampled texels where all
+    its channels are finite (None where there are none), the planes side by side.
+
+    Finite or not comes out of the order statistics' histogram: only a group
+    with a value that is not finite is read again for its finite texels.
+    """
+    if planes.shape[1] == 0:
+        return [None] * len(groups)
+    values = [_plane_values(planes, group) for group in groups]
+    rows = [row[None] for group_values in values for row in group_values]
+    per_row = iter(_WORKERS.map(lambda row: _plane_percentiles(row, cuts), rows))
+    found: list[np.ndarray | None] = []
+    for group, group_values in zip(groups, values, strict=True):
+        row_found = [next(per_row) for _ in group_values]
+        if any(f is None for f in row_found):
+            group_values = _finite_values(planes, group)
+            found.append(_plane_percentiles(group_values, cuts) if group_values.shape[1] else None)
+        else:
+            found.append(np.concatenate(row_found, axis=1))
+    return found
+
+
 def tone_ranges(
     block: np.ndarray,
     groups: list[ChannelGroup],
@@ -203,18 +234,7 @@ def tone_ranges(
     found: list[np.ndarray | None] = [None] * len(groups)
     if remap == "data":
         planes = _sample(block)
-        cuts = [clip_percent, 50.0, 100.0 - clip_percent]
-        values = [_finite_values(planes, group) for group in groups]
-        rows = [
-            row[None] for group_values in values if group_values.shape[1] for row in group_values
-        ]
-        per_row = iter(_WORKERS.map(lambda row: _plane_percentiles(row, cuts), rows))
-        found = [
-            np.concatenate([next(per_row) for _ in group_values], axis=1)
-            if group_values.shape[1]
-            else None
-            for group_values in values
-        ]
+        found = _group_percentiles(planes, groups, [clip_percent, 50.0, 100.0 - clip_percent])
     out = []
     for group, percentiles_found in zip(groups, found, strict=True):
         vector = group.curve_mode == "vector"
