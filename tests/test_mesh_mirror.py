@@ -4,6 +4,8 @@ meshes whose mirror images are known (a generated sphere: the reflection itself)
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -13,6 +15,7 @@ from matshop.viewport.gl.mesh_data import uv_sphere  # noqa: E402
 from matshop.viewport.gl.mirror import (  # noqa: E402
     MeshMirror,
     MirrorPlane,
+    closest_on_triangle,
     closest_on_triangles,
 )
 from matshop.viewport.gl.picking import SurfaceHit  # noqa: E402
@@ -45,6 +48,40 @@ def test_closest_points_on_triangles_match_a_brute_force_search() -> None:
             assert exact <= sampled + 1e-9
             spacing = (np.linalg.norm(b[t] - a[t]) + np.linalg.norm(c[t] - a[t])) / 160
             assert sampled - exact <= spacing + 1e-9
+
+
+def test_one_triangle_in_plain_floats_gives_the_vectorised_bits() -> None:
+    """Every region, and degenerate triangles (collinear, coincident corners, a point)."""
+    rng = np.random.default_rng(3)
+    a, b, c = (rng.normal(size=(300, 3)) for _ in range(3))
+    c[:20] = a[:20] + 0.3 * (b[:20] - a[:20])
+    b[20:40] = a[20:40]
+    b[40:50] = c[40:50] = a[40:50]
+    for point in rng.normal(size=(40, 3)) * 2.0:
+        points, barys = closest_on_triangles(point, a, b, c)
+        for t in range(len(a)):
+            found, bary = closest_on_triangle(tuple(point), tuple(a[t]), tuple(b[t]), tuple(c[t]))
+            assert found == tuple(points[t]) and bary == tuple(barys[t]), t
+
+
+def test_the_nearest_point_of_a_mesh_is_the_exhaustive_searchs() -> None:
+    """Against every triangle at once: points on, near, inside and far from a lumpy
+    (asymmetric) sphere; the far ones need more than the few nearest centroids."""
+    mesh = uv_sphere(48, 24)
+    rng = np.random.default_rng(4)
+    lumps = 1.0 + 0.15 * rng.random(len(mesh.positions))
+    mesh = dataclasses.replace(mesh, positions=(mesh.positions * lumps[:, None]).astype(np.float32))
+    mirror = MeshMirror(mesh, MirrorPlane("x"))
+    corners = mesh.positions.astype(np.float64)[mesh.indices.astype(np.int64)]
+    directions = rng.normal(size=(120, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    scales = np.concatenate([rng.uniform(0.0, 0.5, 40), rng.uniform(0.9, 1.2, 60), [5.0] * 20])
+    for point in directions * scales[:, None]:
+        triangle, found, bary = mirror.closest(point)
+        points, _ = closest_on_triangles(point, corners[:, 0], corners[:, 1], corners[:, 2])
+        exhaustive = np.sqrt(np.sum((points - point) ** 2, axis=1)).min()
+        assert np.linalg.norm(found - point) == pytest.approx(exhaustive, rel=1e-12, abs=1e-15)
+        np.testing.assert_allclose(bary @ corners[triangle], found, atol=1e-12)
 
 
 @pytest.mark.parametrize(("axis", "offset"), [("x", 0.0), ("y", 0.0), ("z", 0.0)])

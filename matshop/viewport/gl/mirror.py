@@ -21,6 +21,7 @@ exact closest point on each candidate triangle.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +32,8 @@ from .mesh_data import MeshData
 from .picking import SurfaceHit
 
 AXES = ("x", "y", "z")
+#: triangles whose centroids are nearest to a point, tried one at a time first
+_NEAREST = 8
 
 
 @dataclass(frozen=True)
@@ -121,6 +124,64 @@ def closest_on_triangles(
     return points, bary
 
 
+def _dot(u: tuple[float, float, float], v: tuple[float, float, float]) -> float:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _less(u: tuple[float, ...], v: tuple[float, ...]) -> tuple[float, float, float]:
+    return (u[0] - v[0], u[1] - v[1], u[2] - v[2])
+
+
+def closest_on_triangle(
+    p: tuple[float, float, float],
+    a: tuple[float, float, float],
+    b: tuple[float, float, float],
+    c: tuple[float, float, float],
+) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """:func:`closest_on_triangles` of one triangle in plain floats: ``(point, barycentric)``.
+
+    The same operations in the same order, so the same bits; numpy's dozens of
+    calls on a handful of triangles cost far more than their arithmetic, and
+    the mirror asks for a few triangles a dab. The regions are tried in the
+    order in which the vectorised form lets them win.
+    """
+    ab, ac, ap = _less(b, a), _less(c, a), _less(p, a)
+    d1, d2 = _dot(ab, ap), _dot(ac, ap)
+    bp = _less(p, b)
+    d3, d4 = _dot(ab, bp), _dot(ac, bp)
+    cp = _less(p, c)
+    d5, d6 = _dot(ab, cp), _dot(ac, cp)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    if d6 >= 0 and d5 <= d6:
+        bary = (0.0, 0.0, 1.0)
+    elif d3 >= 0 and d4 <= d3:
+        bary = (0.0, 1.0, 0.0)
+    elif d1 <= 0 and d2 <= 0:
+        bary = (1.0, 0.0, 0.0)
+    elif va <= 0 and (d4 - d3) >= 0 and (d5 - d6) >= 0 and d4 - d3 + d5 - d6 != 0:
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        bary = (0.0, 1.0 - t, t)
+    elif vb <= 0 and d2 - d6 != 0 and d2 >= 0 and d6 <= 0:
+        t = d2 / (d2 - d6)
+        bary = (1.0 - t, 0.0, t)
+    elif vc <= 0 and d1 - d3 != 0 and d1 >= 0 and d3 <= 0:
+        t = d1 / (d1 - d3)
+        bary = (1.0 - t, t, 0.0)
+    else:
+        denom = va + vb + vc
+        if denom == 0 or not math.isfinite(denom):  # degenerate: what numpy's NaNs give
+            points, barys = closest_on_triangles(
+                np.asarray(p), *(np.asarray([v]) for v in (a, b, c))
+            )
+            return tuple(points[0].tolist()), tuple(barys[0].tolist())
+        v, w = vb / denom, vc / denom
+        bary = (1.0 - v - w, v, w)
+    point = tuple(bary[0] * a[k] + bary[1] * b[k] + bary[2] * c[k] for k in range(3))
+    return point, bary
+
+
 def _bary(n: int, i: int, j: int, t) -> np.ndarray:
     """Barycentric coordinates of the point ``t`` of the way from corner ``i`` to ``j``."""
     out = np.zeros((n, 3))
@@ -144,14 +205,44 @@ class MeshMirror:
         self._corners = corners  # (T, 3, 3)
         centroids = corners.mean(axis=1)
         self._tree = cKDTree(centroids)
+        self._corner_tuples = [tuple(map(tuple, t)) for t in corners.tolist()]
         # a triangle's points all lie within this of its centroid
         self._reach = float(np.linalg.norm(corners - centroids[:, None, :], axis=2).max())
 
     def closest(self, point: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
-        """``(triangle, closest point, barycentric)`` of the surface nearest to ``point``."""
+        """``(triangle, closest point, barycentric)`` of the surface nearest to ``point``.
+
+        The triangles of the nearest centroids first, one at a time, until the
+        next centroid is so far that none of its triangle's points (all within
+        ``reach`` of it) can be nearer; only when the few nearest centroids do
+        not settle it, every triangle within reach at once.
+        """
+        count = min(_NEAREST, len(self._corners))
+        distances, order = self._tree.query(point, k=count)
+        p = tuple(np.asarray(point, dtype=np.float64).tolist())
+        best, best_squared = None, math.inf
+        for distance, triangle in zip(np.atleast_1d(distances), np.atleast_1d(order), strict=True):
+            if distance - self._reach >= math.sqrt(best_squared):
+                break
+            a, b, c = self._corner_tuples[triangle]
+            found, bary = closest_on_triangle(p, a, b, c)
+            squared = _dot(_less(found, p), _less(found, p))
+            if squared < best_squared:
+                best, best_squared = (int(triangle), found, bary), squared
+        else:
+            if count < len(self._corners):  # the rest not ruled out
+                return self._closest_among_all(point, float(np.atleast_1d(distances)[0]))
+        if best is None:  # no finite distance at all
+            return self._closest_among_all(point, float(np.atleast_1d(distances)[0]))
+        triangle, found, bary = best
+        return triangle, np.array(found), np.array(bary)
+
+    def _closest_among_all(
+        self, point: np.ndarray, nearest: float
+    ) -> tuple[int, np.ndarray, np.ndarray]:
+        """:meth:`closest` over every triangle whose centroid is within reach, vectorised."""
         # no triangle with every centroid farther than this can hold a nearer point
-        distance, _ = self._tree.query(point)
-        bound = float(distance) + self._reach
+        bound = nearest + self._reach
         candidates = np.asarray(self._tree.query_ball_point(point, bound), dtype=np.int64)
         tris = self._corners[candidates]
         points, bary = closest_on_triangles(point, tris[:, 0], tris[:, 1], tris[:, 2])
