@@ -343,6 +343,24 @@ def test_closing_with_unsaved_changes_asks(window) -> None:
     assert window.prompts.kinds().count("save_changes") == 2
 
 
+def test_closing_the_document_lets_go_of_the_memory_its_results_kept(window) -> None:
+    """Results' memory is kept for reuse (``matshop.buffers``); a closed document's goes."""
+    from matshop import buffers
+
+    def pooled() -> int:
+        return sum(b.nbytes for b in buffers._POOL._buffers)
+
+    before = pooled()
+    open_sample(window)
+    stroke(window, [(20, 20), (60, 20)])
+    window.canvas.flush()
+    assert pooled() > before  # the sample's edit arrays came from the pool
+    window.prompts.save_answer = "discard"
+    assert window.files.close_document()
+    assert window.session.doc is None
+    assert pooled() <= before
+
+
 def test_dropping_a_folder_opens_it(window) -> None:
     from PySide6.QtCore import QMimeData, QUrl
     from PySide6.QtGui import QDropEvent

@@ -22,6 +22,7 @@ from typing import Any
 
 from PySide6.QtCore import QObject, QTimer, Signal
 
+from .. import buffers
 from ..errors import MatshopError
 from ..io.material_io import load_material
 from ..io.normal_convention import convention_line
@@ -255,6 +256,8 @@ class FileController(QObject):
             with contextlib.suppress(MatshopError):  # closed on purpose: nothing to restore
                 discard_recovery(target)
         self.session.set_document(None)
+        # the memory its results kept for reuse goes too (up to buffers.IDLE_LIMIT)
+        buffers.release()
         return True
 
     # -- export --------------------------------------------------------------------
