@@ -22,6 +22,7 @@ exact closest point on each candidate triangle.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -124,19 +125,16 @@ def closest_on_triangles(
     return points, bary
 
 
-def _dot(u: tuple[float, float, float], v: tuple[float, float, float]) -> float:
+def _dot(u: Sequence[float], v: Sequence[float]) -> float:
     return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
-def _less(u: tuple[float, ...], v: tuple[float, ...]) -> tuple[float, float, float]:
+def _less(u: Sequence[float], v: Sequence[float]) -> tuple[float, float, float]:
     return (u[0] - v[0], u[1] - v[1], u[2] - v[2])
 
 
 def closest_on_triangle(
-    p: tuple[float, float, float],
-    a: tuple[float, float, float],
-    b: tuple[float, float, float],
-    c: tuple[float, float, float],
+    p: Sequence[float], a: Sequence[float], b: Sequence[float], c: Sequence[float]
 ) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
     """:func:`closest_on_triangles` of one triangle in plain floats: ``(point, barycentric)``.
 
@@ -205,7 +203,6 @@ class MeshMirror:
         self._corners = corners  # (T, 3, 3)
         centroids = corners.mean(axis=1)
         self._tree = cKDTree(centroids)
-        self._corner_tuples = [tuple(map(tuple, t)) for t in corners.tolist()]
         # a triangle's points all lie within this of its centroid
         self._reach = float(np.linalg.norm(corners - centroids[:, None, :], axis=2).max())
 
@@ -224,15 +221,18 @@ class MeshMirror:
         for distance, triangle in zip(np.atleast_1d(distances), np.atleast_1d(order), strict=True):
             if distance - self._reach >= math.sqrt(best_squared):
                 break
-            a, b, c = self._corner_tuples[triangle]
+            # one triangle's corners as floats (a list of every triangle's took 0.37 s
+            # to build for a 65k-triangle mesh)
+            a, b, c = self._corners[triangle].tolist()
             found, bary = closest_on_triangle(p, a, b, c)
-            squared = _dot(_less(found, p), _less(found, p))
+            offset = _less(found, p)
+            squared = _dot(offset, offset)
             if squared < best_squared:
                 best, best_squared = (int(triangle), found, bary), squared
         else:
-            if count < len(self._corners):  # the rest not ruled out
-                return self._closest_among_all(point, float(np.atleast_1d(distances)[0]))
-        if best is None:  # no finite distance at all
+            if count < len(self._corners):
+                best = None  # the triangles past the nearest few are not ruled out
+        if best is None:  # that, or no finite distance at all
             return self._closest_among_all(point, float(np.atleast_1d(distances)[0]))
         triangle, found, bary = best
         return triangle, np.array(found), np.array(bary)
