@@ -139,31 +139,42 @@ _E = tuple(
 )
 
 
-@njit(inline="always", error_model="numpy", fastmath={"contract"}, nogil=True)
-def _pow_unit(x, p):
-    """``x ** p`` for float32 ``x`` in [0, 2) and ``p = (hi, lo, p)`` of :func:`split_exponent`.
+# 2^23 and 127 2^23: a float32's exponent field, written by a fused multiply-add
+_FIELD = np.float32(8388608.0)
+_BIAS = np.float32(127.0 * 8388608.0)
+#: what the power's input is scaled by: a subnormal x becomes normal (2^24 x)
+POWER_SCALE = 16777216.0
 
-    Arithmetic, bit casts and selects only (a libm ``pow`` would keep the loop
-    scalar), all float32: ``log2 x = k + log2 m`` with m in [sqrt(1/2), sqrt(2))
-    from the bits, ``log2 m`` a polynomial in ``m - 1``, then ``2^z = 2^n
-    2^r``, |r| <= 1/2, by a polynomial. ``p k`` is summed as ``p_hi k``
-    (exact: p_hi has 12 significant bits) plus the rest, so large ``|z|``
-    loses no bits. The loop is bound by the number of vector operations, so
-    every one counts: fitted polynomials one degree shorter than Taylor's, no
-    division, no subnormal branch, no integer lanes, one rounding to n. Relative
-    error 1.2 ulp (p = 1/1.4), 1.5 ulp (p = 2; the atanh form with a division
-    gave 1.6 and 2.0, and was 6% slower); for p up to 100, 1e-7 of 1 absolute.
-    Results below 2^-127 flush to 0; x = 0 gives 0.
+
+@njit(inline="always", error_model="numpy", fastmath={"contract"}, nogil=True)
+def _pow_scaled(v, p):
+    """``(v / 2^24) ** p`` for float32 ``v`` in [0, 2^25) and ``p = (hi, lo, p)`` of
+    :func:`split_exponent`.
+
+    The input comes scaled by :data:`POWER_SCALE` (folded into the caller's
+    affine map), so a subnormal ``x`` arrives normal and every value takes the
+    same path. Arithmetic, bit casts and selects only (a libm ``pow`` would
+    keep the loop scalar), all float32: ``log2 v = k + log2 m`` with m in
+    [sqrt(1/2), sqrt(2)) from the bits, ``log2 m`` a polynomial in ``m - 1``,
+    then ``2^z = 2^n 2^r``, |r| <= 1/2, by a polynomial. ``p (k - 24)`` is
+    summed as ``p_hi (k - 24)`` (exact: p_hi has 12 significant bits) plus the
+    rest, so large ``|z|`` loses no bits. The loop is bound by the number of
+    vector operations, so every one counts: fitted polynomials one degree
+    shorter than Taylor's, no division, no subnormal branch, no integer lanes,
+    the exponent fields and offsets as fused multiply-adds, one rounding to
+    n. Relative error 1.2 ulp (p = 1/1.4), 1.5 ulp (p = 2); for p up to 100,
+    1e-7 of 1 absolute. Results below 2^-127 flush to 0; v = 0 gives 0.
     """
     p_hi, p_lo, p32 = p
-    # x 2^24: a subnormal x becomes normal, and every x takes the same path
-    normal = np.float32(x * np.float32(16777216.0))
     # k from the bits read as a number, in float32 (numba's integer arithmetic is
     # 64-bit: half-width lanes); its rounding (under 2^7 of 2^23) can only move m
     # a few ulp past the interval, where the polynomial still holds
-    k = np.floor((np.float32(normal.view(np.int32)) - _OFFSET) * np.float32(2.0**-23))
-    m = normal * np.int32((np.float32(127.0) - k) * np.float32(8388608.0)).view(np.float32)
-    e = k - np.float32(24.0)
+    k = np.floor(
+        np.float32(np.float32(v).view(np.int32)) * np.float32(2.0**-23)
+        - _OFFSET * np.float32(2.0**-23)
+    )
+    # m = v 2^-k, 2^-k from its exponent field (exact: an integer times 2^23)
+    m = v * np.int32(k * -_FIELD + _BIAS).view(np.float32)
     u = m - _ONE
     u2 = u * u
     # Estrin's scheme: four short chains side by side instead of one of eight steps
@@ -175,40 +186,90 @@ def _pow_unit(x, p):
     q = (q01 + u2 * q23) + u4 * (q45 + u2 * q67)
     # the leading term rounded once, inside the fused add
     log2_m = u * _INV_LN2 + u2 * q
-    # p e = p_hi e (exact: 12 by 8 significant bits) + p_lo e; n rounded from the
-    # whole, and p_hi e - n is exact, so r is rounded once
-    a = e * p_hi
-    rest = e * p_lo + p32 * log2_m
-    n = ((a + rest) + _ROUND) - _ROUND
+    # p (k - 24) = p_hi (k - 24) (exact: 12 by 8 significant bits) + p_lo (k - 24);
+    # n rounded from the whole, and a - n is exact, so r is rounded once
+    a = k * p_hi - np.float32(24.0) * p_hi
+    rest = k * p_lo + (p32 * log2_m - np.float32(24.0) * p_lo)
+    n = np.rint(a + rest)
     r = (a - n) + rest
     q = _E[6]
     for c in (_E[5], _E[4], _E[3], _E[2], _E[1], _E[0]):
         q = q * r + c
-    n = n if n > np.float32(-127.0) else np.float32(-127.0)
-    # 2^n from its exponent field, through a float (integer lanes would be 64-bit)
-    y = q * np.int32((n + np.float32(127.0)) * np.float32(8388608.0)).view(np.float32)
-    return y if x > 0 else np.float32(0.0)
+    n = max(n, np.float32(-127.0))
+    y = q * np.int32(n * _FIELD + _BIAS).view(np.float32)
+    return y if v > np.float32(0.0) else np.float32(0.0)
+
+
+#: the rows of :func:`power_constants`: a channel's levels curve as one affine map
+#: into the power and three lines out of it, all of ``d = x - lo``
+POWER_ROWS = ("lo", "a", "b", "p0", "p1", "l0", "l1", "u0", "u1", "s1", "s2")
 
 
 @njit(inline="always", error_model="numpy", fastmath={"contract"}, nogil=True)
-def _evaluate_power(t, b, k, p):
-    """``f(t)`` of the three pieces of a curve with an exponent: line, power, line.
+def _power_curve(x, lo, a, b, p0, p1, l0, l1, u0, u1, s1, s2, p):
+    """``lo + span f((x - lo) / span)`` of a curve with an exponent, from
+    :func:`power_constants` (line below ``s1``, power, line from ``s2``).
 
-    Written out rather than as :func:`_evaluate`'s select chain: this loop is
-    the power's, and every select more is felt.
+    ``d = x - lo`` first: the affine maps of ``d`` keep their precision when
+    the range sits far from 0 (a map of ``x`` would cancel ``lo`` against
+    ``x`` after rounding both). NaN takes the first line, as in :func:`_evaluate`.
     """
-    below = k[0][0] + t * k[0][1]
-    above = k[2][0] + (t - b[2]) * k[2][1]
-    v = k[1][2] * ((t - b[1]) - k[1][3])
-    v = v if v > np.float32(0.0) else np.float32(0.0)
-    v = v if v < _ONE else _ONE
-    inside = k[1][0] + k[1][1] * _pow_unit(v, p)
-    out = inside if t >= b[1] else below  # NaN takes the first piece, as in _evaluate
-    return above if t >= b[2] else out
+    d = x - lo
+    v = min(max(d * a + b, np.float32(0.0)), np.float32(POWER_SCALE))
+    inside = p0 + p1 * _pow_scaled(v, p)
+    out = inside if d >= s1 else l0 + d * l1
+    return u0 + d * u1 if d >= s2 else out
+
+
+def power_constants(
+    lo: np.ndarray, span: np.ndarray, breaks: np.ndarray, coeffs: np.ndarray
+) -> np.ndarray:
+    """``(len(lo), len(POWER_ROWS))`` float32: the three pieces of a curve with an
+    exponent (:class:`Pieces`) mapped from ``t = (x - lo) / span`` to ``d = x - lo``
+    and from ``f`` to ``lo + span f``, per range (``lo``, ``span``), in float64.
+
+    What :func:`_power_curve` reads: one fused multiply-add per map instead of
+    the chain through ``t`` (the power loop is bound by its operations).
+    """
+    lo = np.asarray(lo, dtype=np.float64)
+    span = np.asarray(span, dtype=np.float64)
+    b = breaks.astype(np.float64)
+    k = coeffs.astype(np.float64)
+    ones = np.ones_like(lo)
+    rows = {
+        "lo": lo,
+        # the power's input v = c2 ((t - b1) - c3), scaled for _pow_scaled
+        "a": ones * (k[1, 2] * POWER_SCALE) / span,
+        "b": ones * (-k[1, 2] * (b[1] + k[1, 3]) * POWER_SCALE),
+        "p0": lo + span * k[1, 0],
+        "p1": span * k[1, 1],
+        # below: c0 + t c1; above: c0 + (t - b2) c1 (so their slopes in d are c1)
+        "l0": lo + span * k[0, 0],
+        "l1": ones * k[0, 1],
+        "u0": lo + span * (k[2, 0] - b[2] * k[2, 1]),
+        "u1": ones * k[2, 1],
+        "s1": span * b[1],
+        "s2": span * b[2],
+    }
+    return np.stack([rows[name] for name in POWER_ROWS], axis=1).astype(np.float32)
+
+
+#: a tile row's values at least: its loop outlasts the set-up of the next
+_TILE_VALUES = 256
+
+
+def power_tiles(constants: np.ndarray) -> np.ndarray:
+    """``(len(POWER_ROWS), L)``: a texel's channels' :func:`power_constants`
+    ``(C, rows)`` repeated over L values, L a multiple of C and of 16 (whole
+    texels, whole 512-bit vectors)."""
+    channels = constants.shape[0]
+    period = math.lcm(channels, 16)
+    period *= -(-_TILE_VALUES // period)
+    return np.ascontiguousarray(np.tile(constants.T, period // channels))
 
 
 def split_exponent(p: float) -> np.ndarray:
-    """``(p_hi, p_lo, p)`` float32 for :func:`_pow_unit`: p_hi has 12 significant bits."""
+    """``(p_hi, p_lo, p)`` float32 for :func:`_pow_scaled`: p_hi has 12 significant bits."""
     mantissa, exponent = math.frexp(p)
     hi = math.ldexp(round(mantissa * 4096.0) / 4096.0, exponent)
     return np.array([hi, p - hi, p], dtype=np.float32)
@@ -238,17 +299,12 @@ def _pieces_in_locals(breaks, coeffs):
 
 
 @njit(**_FLAGS)
-def _pieces_row(src, lo, inv_span, span, breaks, coeffs, power, out):
+def _pieces_row(src, lo, inv_span, span, breaks, coeffs, out):
     """One row: the pieces read into locals first, so the value loop is selects only."""
     prefer_512_bit_vectors()
     b, k = _pieces_in_locals(breaks, coeffs)
-    if power[2] != 1.0:
-        p = (power[0], power[1], power[2])
-        for i in range(src.shape[0]):
-            t = (src[i] - lo[i]) * inv_span[i]
-            out[i] = lo[i] + span[i] * _evaluate_power(t, b, k, p)
     # a curve of three points is four pieces: half the selects
-    elif breaks[4] != breaks[4]:
+    if breaks[4] != breaks[4]:
         for i in range(src.shape[0]):
             t = (src[i] - lo[i]) * inv_span[i]
             out[i] = lo[i] + span[i] * _evaluate(t, b, k, 4)
@@ -259,92 +315,176 @@ def _pieces_row(src, lo, inv_span, span, breaks, coeffs, power, out):
 
 
 @njit(**_FLAGS)
-def _vectors_row(src, vectors, bounds, quadrature, ranges, breaks, coeffs, power, out):
+def _power_row(src, tiles, power, out):
+    """One row of a curve with an exponent: ``tiles`` (:data:`POWER_ROWS`, L) are
+    :func:`power_constants` repeating every L values (whole texels), so they stay
+    in the first-level cache while the row streams past."""
+    prefer_512_bit_vectors()
+    p = (power[0], power[1], power[2])
+    period = tiles.shape[1]
+    lo, a, b, p0, p1 = tiles[0], tiles[1], tiles[2], tiles[3], tiles[4]
+    l0, l1, u0, u1, s1, s2 = tiles[5], tiles[6], tiles[7], tiles[8], tiles[9], tiles[10]
+    for start in range(0, src.shape[0], period):
+        x = src[start : start + period]
+        y = out[start : start + period]
+        for j in range(x.shape[0]):
+            y[j] = _power_curve(
+                x[j], lo[j], a[j], b[j], p0[j], p1[j], l0[j], l1[j], u0[j], u1[j], s1[j], s2[j], p
+            )
+
+
+@njit(inline="always", **_FLAGS)
+def _is_frame(vectors, first, stop, quadrature):
+    """Three adjacent channels of unit weight: handled without the index lists."""
+    if stop - first != 3:
+        return False
+    c0 = vectors[first]
+    adjacent = vectors[first + 1] == c0 + 1 and vectors[first + 2] == c0 + 2
+    unit = quadrature[first] == 1.0 and quadrature[first + 1] == 1.0
+    return adjacent and unit and quadrature[first + 2] == 1.0
+
+
+@njit(**_FLAGS)
+def _vector_squares(src, vectors, first, stop, quadrature, squares):
+    """``squares[col] = sum(q v^2)`` of the group ``vectors[first:stop]`` of a row (W, C)."""
+    channels = np.uint64(src.shape[1])
+    flat = src.reshape(-1)
+    if _is_frame(vectors, first, stop, quadrature):
+        # unsigned indices: a signed one is checked for wraparound at every load
+        at = np.uint64(vectors[first])
+        for col in range(src.shape[0]):
+            v0, v1, v2 = flat[at], flat[at + np.uint64(1)], flat[at + np.uint64(2)]
+            squares[col] = v0 * v0 + v1 * v1 + v2 * v2
+            at += channels
+        return
+    for col in range(src.shape[0]):
+        sq = np.float32(0.0)
+        for i in range(first, stop):
+            v = src[np.uint64(col), np.uint64(vectors[i])]
+            sq += np.float32(quadrature[i]) * v * v
+        squares[col] = sq
+
+
+@njit(**_FLAGS)
+def _vector_scale(src, vectors, first, stop, quadrature, gain, out):
+    """``out = src * gain`` on the group's channels of a row (W, C)."""
+    channels = np.uint64(src.shape[1])
+    if _is_frame(vectors, first, stop, quadrature):
+        flat_src, flat_out = src.reshape(-1), out.reshape(-1)
+        at = np.uint64(vectors[first])
+        for col in range(src.shape[0]):
+            g = gain[col]
+            flat_out[at] = flat_src[at] * g
+            flat_out[at + np.uint64(1)] = flat_src[at + np.uint64(1)] * g
+            flat_out[at + np.uint64(2)] = flat_src[at + np.uint64(2)] * g
+            at += channels
+        return
+    for col in range(src.shape[0]):
+        at = np.uint64(col)
+        for i in range(first, stop):
+            c = np.uint64(vectors[i])
+            out[at, c] = src[at, c] * gain[col]
+
+
+@njit(**_FLAGS)
+def _vector_gains(squares, lo, inv_span, span, constants, breaks, coeffs, power, gain):
+    """``gain = max(lo + span f((m - lo) / span), 0) / m`` of ``m = sqrt(squares)``
+    (a zero vector keeps gain 0, a magnitude never turns negative); a curve with an
+    exponent reads its ``constants`` (one row of :func:`power_constants`) instead.
+    Out of place: LLVM does not vectorise a loop that writes the array it reads."""
+    prefer_512_bit_vectors()
+    zero = np.float32(0.0)
+    if power[2] != 1.0:
+        p = (power[0], power[1], power[2])
+        lo_, a, b, p0, p1, l0, l1, u0, u1, s1, s2 = (
+            constants[0], constants[1], constants[2], constants[3], constants[4],
+            constants[5], constants[6], constants[7], constants[8], constants[9],
+            constants[10],
+        )  # fmt: skip
+        for col in range(gain.shape[0]):
+            m = np.sqrt(squares[col])
+            mapped = max(_power_curve(m, lo_, a, b, p0, p1, l0, l1, u0, u1, s1, s2, p), zero)
+            gain[col] = mapped / m if m > zero else zero
+        return
+    b, k = _pieces_in_locals(breaks, coeffs)
+    if breaks[4] != breaks[4]:  # four pieces: half the selects, as in _pieces_row
+        for col in range(gain.shape[0]):
+            m = np.sqrt(squares[col])
+            mapped = max(lo + span * _evaluate((m - lo) * inv_span, b, k, 4), zero)
+            gain[col] = mapped / m if m > zero else zero
+    else:
+        for col in range(gain.shape[0]):
+            m = np.sqrt(squares[col])
+            mapped = max(lo + span * _evaluate((m - lo) * inv_span, b, k, MAX_PIECES), zero)
+            gain[col] = mapped / m if m > zero else zero
+
+
+@njit(**_FLAGS)
+def _vectors_row(
+    src, vectors, bounds, quadrature, ranges, constants, breaks, coeffs, power, out, scratch
+):
     """Vector groups of one texel row (W, C): each magnitude through the curve.
 
     Group ``g`` is channels ``vectors[bounds[g]:bounds[g + 1]]``; its magnitude
     ``m = sqrt(sum(q v^2))`` maps to ``max(lo + span f((m - lo) / span), 0)``
-    (``ranges[g]`` = lo, 1 / span, span) and the vector is scaled by that
-    over ``m`` (a zero vector stays zero, a magnitude never turns negative).
+    (``ranges[g]`` = lo, 1 / span, span; ``constants[g]`` for a curve with an
+    exponent) and the vector is scaled by that over ``m``. Three passes, so
+    the middle one (the curve) runs on contiguous values (``scratch``, 2 x W)
+    and vectorises: squared magnitudes, gains, scaled vectors.
     """
-    prefer_512_bit_vectors()
-    b, k = _pieces_in_locals(breaks, coeffs)
-    zero = np.float32(0.0)
-    q32 = quadrature.astype(np.float32)
-    gain = np.empty(src.shape[0], dtype=np.float32)
+    squares, gain = scratch[0], scratch[1]
     for g in range(bounds.shape[0] - 1):
         first, stop = bounds[g], bounds[g + 1]
-        vlo, vinv, vspan = ranges[g, 0], ranges[g, 1], ranges[g, 2]
-        # three passes, so the middle one (the curve) runs on contiguous values and
-        # vectorises: squared magnitudes, gains, scaled vectors
-        c0 = vectors[first]
-        # a frame (three adjacent channels of unit weight) without the index lists
-        frame = stop - first == 3 and vectors[first + 1] == c0 + 1 and vectors[first + 2] == c0 + 2
-        frame = frame and q32[first] == 1 and q32[first + 1] == 1 and q32[first + 2] == 1
-        # unsigned indices: a signed one is checked for wraparound at every load
-        u0 = np.uint64(c0)
-        u1, u2 = u0 + np.uint64(1), u0 + np.uint64(2)
-        if frame:
-            for col in range(src.shape[0]):
-                at = np.uint64(col)
-                v0, v1, v2 = src[at, u0], src[at, u1], src[at, u2]
-                gain[col] = v0 * v0 + v1 * v1 + v2 * v2
-        else:
-            for col in range(src.shape[0]):
-                sq = zero
-                for i in range(first, stop):
-                    v = src[np.uint64(col), np.uint64(vectors[i])]
-                    sq += q32[i] * v * v
-                gain[col] = sq
-        if power[2] != 1.0:
-            p = (power[0], power[1], power[2])
-            for col in range(src.shape[0]):
-                m = np.sqrt(gain[col])
-                mapped = max(vlo + vspan * _evaluate_power((m - vlo) * vinv, b, k, p), zero)
-                gain[col] = mapped / m if m > zero else zero
-        elif breaks[4] != breaks[4]:  # four pieces: half the selects, as in _pieces_row
-            for col in range(src.shape[0]):
-                m = np.sqrt(gain[col])
-                mapped = max(vlo + vspan * _evaluate((m - vlo) * vinv, b, k, 4), zero)
-                gain[col] = mapped / m if m > zero else zero
-        else:
-            for col in range(src.shape[0]):
-                m = np.sqrt(gain[col])
-                mapped = max(vlo + vspan * _evaluate((m - vlo) * vinv, b, k, MAX_PIECES), zero)
-                gain[col] = mapped / m if m > zero else zero
-        if frame:
-            for col in range(src.shape[0]):
-                at = np.uint64(col)
-                out[at, u0] = src[at, u0] * gain[col]
-                out[at, u1] = src[at, u1] * gain[col]
-                out[at, u2] = src[at, u2] * gain[col]
-        else:
-            for col in range(src.shape[0]):
-                at = np.uint64(col)
-                for i in range(first, stop):
-                    c = np.uint64(vectors[i])
-                    out[at, c] = src[at, c] * gain[col]
+        _vector_squares(src, vectors, first, stop, quadrature, squares)
+        _vector_gains(
+            squares, ranges[g, 0], ranges[g, 1], ranges[g, 2], constants[g],
+            breaks, coeffs, power, gain,
+        )  # fmt: skip
+        _vector_scale(src, vectors, first, stop, quadrature, gain, out)
 
 
 @njit(parallel=True, **_FLAGS)
 def pieces_apply(
-    src, lo, inv_span, span, vectors, bounds, quadrature, ranges, breaks, coeffs, power, out
+    src,
+    lo,
+    inv_span,
+    span,
+    vectors,
+    bounds,
+    quadrature,
+    ranges,
+    constants,
+    breaks,
+    coeffs,
+    power,
+    out,
 ):
     """A curve of pieces through every channel group of ``src`` (H, W, C), into ``out``.
 
     Per channel: ``out = lo + span * f((src - lo) / span)`` with each texel
-    row read as W x C values (``lo``, ``inv_span``, ``span`` tiled to that
-    length; ``src`` and ``out`` C-contiguous), a loop LLVM vectorises. Then
-    the vector groups of the same row, while it is in cache
-    (:func:`_vectors_row`, which overwrites their channels). ``breaks`` and
-    ``coeffs`` are a :class:`Pieces`, ``power`` its :func:`split_exponent`.
+    row read as W x C values, a loop LLVM vectorises: for cubic pieces ``lo``,
+    ``inv_span``, ``span`` tiled to that length; for a curve with an exponent
+    (``power[2] != 1``) they are unused and ``constants[0]`` holds the
+    channels' :func:`power_constants` as tiles (:func:`_power_row`). Then the
+    vector groups of the same row, while it is in cache (:func:`_vectors_row`,
+    which overwrites their channels; ``ranges`` and ``constants[1]``).
+    ``src`` and ``out`` are C-contiguous; ``breaks`` and ``coeffs`` are a
+    :class:`Pieces`, ``power`` its :func:`split_exponent`.
     """
     height, width, channels = src.shape
     flat_src = src.reshape(height, width * channels)
     flat_out = out.reshape(height, width * channels)
-    for row in prange(height):
-        _pieces_row(flat_src[row], lo, inv_span, span, breaks, coeffs, power, flat_out[row])
-        if bounds.shape[0] > 1:
-            _vectors_row(
-                src[row], vectors, bounds, quadrature, ranges, breaks, coeffs, power, out[row]
-            )
+    tiles, vector_constants = constants
+    rows_per_chunk = (height + 63) // 64
+    for chunk in prange((height + rows_per_chunk - 1) // rows_per_chunk):
+        scratch = np.empty((2, width), dtype=np.float32)
+        for row in range(chunk * rows_per_chunk, min(height, (chunk + 1) * rows_per_chunk)):
+            if power[2] != 1.0:
+                _power_row(flat_src[row], tiles, power, flat_out[row])
+            else:
+                _pieces_row(flat_src[row], lo, inv_span, span, breaks, coeffs, flat_out[row])
+            if bounds.shape[0] > 1:
+                _vectors_row(
+                    src[row], vectors, bounds, quadrature, ranges, vector_constants,
+                    breaks, coeffs, power, out[row], scratch,
+                )  # fmt: skip

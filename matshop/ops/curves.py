@@ -25,7 +25,14 @@ import numpy as np
 from ..material import Schema
 from ._fresh import empty_touched_soon
 from ._kernels import line_tables, lut_apply
-from ._pieces import Pieces, pieces_apply, split_exponent
+from ._pieces import (
+    POWER_ROWS,
+    Pieces,
+    pieces_apply,
+    power_constants,
+    power_tiles,
+    split_exponent,
+)
 from .selection import Selection
 from .spec import WHOLE_IMAGE, OpError, OpSpec, OpTarget, ParamSpec, Reach
 from .tone_range import CLIP_PERCENT, REMAPS, Remap, ToneRange, tail_slope, tone_ranges
@@ -206,18 +213,34 @@ def _apply_pieces(
             vectors += list(group.channels)
             bounds.append(len(vectors))
             quadrature += list(group.quadrature)
-            vector_ranges.append((tone.lo[0], 1.0 / tone.span[0], tone.span[0]))
+            vector_ranges.append((tone.lo[0], tone.span[0]))
         else:
             lo[group.channels], span[group.channels] = tone.lo, tone.span
+    # the ranges as the kernel reads them: float32
+    lo32, span32 = lo.astype(np.float32), span.astype(np.float32)
+    vector_lo, vector_span = np.array(vector_ranges or [(0.0, 1.0)], dtype=np.float32).T
+    if curve.exponent != 1.0:
+        constants = (
+            power_tiles(power_constants(lo32, span32, curve.breaks, curve.coeffs)),
+            power_constants(vector_lo, vector_span, curve.breaks, curve.coeffs),
+        )
+        tiled = np.zeros(0, dtype=np.float32)
+        lo_tiles, inv_tiles, span_tiles = tiled, tiled, tiled
+    else:
+        unused = np.zeros((1, len(POWER_ROWS)), dtype=np.float32)
+        constants = (unused, unused)
+        lo_tiles, span_tiles = np.tile(lo32, width), np.tile(span32, width)
+        inv_tiles = np.tile((1.0 / span).astype(np.float32), width)
     pieces_apply(
         np.ascontiguousarray(block),
-        np.tile(lo.astype(np.float32), width),
-        np.tile((1.0 / span).astype(np.float32), width),
-        np.tile(span.astype(np.float32), width),
+        lo_tiles,
+        inv_tiles,
+        span_tiles,
         np.array(vectors, dtype=np.int64),
         np.array(bounds, dtype=np.int64),
         np.array(quadrature, dtype=np.float64),
-        np.array(vector_ranges or [(0.0, 1.0, 1.0)], dtype=np.float32),
+        np.stack([vector_lo, 1.0 / vector_span, vector_span], axis=1).astype(np.float32),
+        constants,
         curve.breaks,
         curve.coeffs,
         split_exponent(curve.exponent),
