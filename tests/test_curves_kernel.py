@@ -217,7 +217,16 @@ def test_a_curve_of_many_points_interpolates_its_table(remap) -> None:
     np.testing.assert_allclose(got[finite], exact[finite], rtol=1e-4, atol=1e-4)
 
 
-def test_percentiles_are_numpys() -> None:
+@pytest.fixture(params=["sort", "radix"])
+def order_path(request, monkeypatch) -> str:
+    """Both ways to the order statistics, whichever this CPU would take (``_order``)."""
+    from matshop.ops import _order
+
+    monkeypatch.setattr(_order, "SORT_IS_VECTORISED", request.param == "sort")
+    return request.param
+
+
+def test_percentiles_are_numpys(order_path) -> None:
     rng = np.random.default_rng(2)
     for dtype in (np.float32, np.float64):
         for count in (1, 2, 9, 1000, 4099):
@@ -243,9 +252,10 @@ def _hard_columns(rng: np.random.Generator, count: int) -> np.ndarray:
 
 
 @pytest.mark.parametrize("count", [1, 3, 70, 5000, 1 << 18])
-def test_percentiles_of_real_looking_columns_are_numpys(count: int) -> None:
-    """The radix select (``_order``) against numpy's sort, on the columns that put most
-    values into one bucket; float32 and float64 (a frame's magnitudes), any cut."""
+def test_percentiles_of_real_looking_columns_are_numpys(count: int, order_path) -> None:
+    """The radix select and the sort (``_order``) against numpy's percentiles, on the
+    columns that put most values into one bucket; float32 and float64 (a frame's
+    magnitudes), any cut."""
     rng = np.random.default_rng(count)
     values = _hard_columns(rng, count)
     for dtype in (np.float32, np.float64):
@@ -275,7 +285,7 @@ def test_the_sample_is_the_fixed_random_draw_of_texels() -> None:
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf, -np.nan])
-def test_a_value_that_is_not_finite_leaves_its_texel_out_of_its_group_only(bad) -> None:
+def test_a_value_that_is_not_finite_leaves_its_texel_out_of_its_group_only(bad, order_path) -> None:
     """Every texel is read (fewer than the draw): each group's range is ``np.percentile``
     over the texels where all its channels are finite, whichever kind of value is not."""
     edit = edit_array(120, 90)
@@ -316,3 +326,20 @@ def test_ranges_are_the_percentiles_of_the_drawn_texels() -> None:
         reach = np.maximum(median - low, high - median)
         np.testing.assert_allclose(tone.lo, median - reach, rtol=1e-6, atol=1e-7)
         np.testing.assert_allclose(tone.span, 2.0 * reach, rtol=1e-6, atol=1e-7)
+
+
+@pytest.mark.parametrize("channels, count", [(3, 1 << 18), (5, 3000), (2, 1), (1, 1025)])
+def test_vector_magnitudes_of_the_sample_are_numpys_bits(channels, count) -> None:
+    """The sample's magnitudes (``_gather.plane_magnitudes``, chunked channel by channel)
+    are numpy's ``sqrt((v**2 * q).sum(-1))`` bit for bit, so a vector's range is the
+    same whichever way its values are read."""
+    from matshop.ops._gather import plane_magnitudes
+
+    rng = np.random.default_rng(channels)
+    planes = (rng.normal(size=(channels + 2, count)) * 3).astype(np.float32)
+    picked = np.arange(1, channels + 1)
+    quadrature = rng.random(channels)
+    got = np.empty(count)
+    plane_magnitudes(planes, picked, quadrature, got)
+    expected = np.sqrt((planes[picked].T.astype(np.float64) ** 2 * quadrature).sum(-1))
+    assert np.array_equal(got, expected)

@@ -50,9 +50,18 @@ def plane_magnitudes(planes, channels, quadrature, out):
     """
     count = out.shape[0]
     for chunk in prange((count + _CHUNK - 1) // _CHUNK):
-        for i in range(chunk * _CHUNK, min(count, (chunk + 1) * _CHUNK)):
-            total = 0.0
-            for j in range(channels.shape[0]):
-                v = np.float64(planes[channels[j], i])
-                total += (v * v) * quadrature[j]
-            out[i] = np.sqrt(total)
+        start = chunk * _CHUNK
+        size = min(count, start + _CHUNK) - start
+        # channel by channel over a chunk: each loop runs over contiguous values and
+        # vectorises (texel by texel, the indirect channel index kept it scalar)
+        total = np.zeros(size)
+        terms = np.empty(size)
+        for j in range(channels.shape[0]):
+            plane = planes[channels[j]]
+            weight = quadrature[j]
+            for i in range(size):
+                v = np.float64(plane[start + i])
+                terms[i] = total[i] + (v * v) * weight
+            total, terms = terms, total
+        for i in range(size):
+            out[start + i] = np.sqrt(total[i])

@@ -138,9 +138,9 @@ def _plane_percentiles(planes: np.ndarray, cuts: list[float]) -> np.ndarray | No
     None when a value is not finite.
 
     numpy's own partitions once per cut and column, six times slower on the
-    2^18 samples, and a full sort of each row is three times slower than the
-    radix select of :mod:`._order`, which gives the same order statistics; the
-    interpolation below is numpy's ``_lerp``, so the values are the same.
+    2^18 samples; :mod:`._order` sorts or radix-selects, whichever this CPU does
+    faster, for the same order statistics; the interpolation below is numpy's
+    ``_lerp``, so the values are the same.
     """
     count = planes.shape[1]
     position = np.asarray(cuts, dtype=np.float64) / 100.0 * (count - 1)
