@@ -271,15 +271,18 @@ def test_a_big_hdr_loads_without_stalling_and_a_broken_one_is_one_line(
         f"{1000 * cpu:.0f} ms GUI-thread CPU (load {load:.1f})"
     )
     assert window.lighting.choice.source == str(big)
-    # the GUI thread's own work always (the longest gap is the 3D view's texture upload,
-    # ~40 ms of CPU); the wall gap when the machine is not overloaded, since a loaded
-    # machine stretches even that upload past 250 ms (measured: 0.17-0.3 s at load 11)
+    # the GUI thread's own work always (the 3D view's texture upload went up in one
+    # call, ~40 ms of CPU, before it went a band a frame); the wall gap when the machine
+    # is not overloaded, since a loaded machine stretched even that upload past 250 ms
+    # (measured: 0.17-0.3 s at load 11)
     assert cpu < STALL_LIMIT_S
     if load < (os.cpu_count() or 1):
         assert wall < STALL_LIMIT_S
     assert any("Loading the environment big_sky.hdr" in m for m in messages), messages
-    # the 3D view got it too (reduced to 1024 rows)
-    assert window.view3d.viewport.renderer.environment.env.radiance.shape == (1024, 2048, 3)
+    # the 3D view got it too (reduced to 1024 rows), over its next frames
+    renderer = window.view3d.viewport.renderer
+    qtbot.waitUntil(lambda: not renderer.loading, timeout=60_000)
+    assert renderer.environment.env.radiance.shape == (1024, 2048, 3)
 
     broken = tmp_path / "broken.hdr"
     broken.write_bytes(b"#?RADIANCE\nnot really\n")

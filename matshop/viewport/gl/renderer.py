@@ -20,7 +20,7 @@ from ...render.environment import Environment, load_environment
 from ...render.integrator import DirectionalLight
 from . import shaders
 from .camera import OrbitCamera
-from .environment_gpu import EnvironmentTextures
+from .environment_gpu import STEP_BYTES, EnvironmentTextures
 from .fbo import Framebuffer
 from .mesh_data import MeshData, uv_sphere
 from .mesh_gpu import GpuMesh
@@ -61,6 +61,9 @@ class MaterialRenderer:
         self.mesh: GpuMesh | None = None
         self.textures: MaterialTextures | None = None
         self.environment: EnvironmentTextures | None = None
+        #: an environment on its way to the GPU (drawn once complete; until then the
+        #: previous one is)
+        self._next_environment: EnvironmentTextures | None = None
         self._empty_vao = GL.glGenVertexArrays(1)
         self._pending: set[TileKey] = set()
         #: read no document blocks for a background upload (its owner is recomputing it)
@@ -73,15 +76,41 @@ class MaterialRenderer:
 
     # -- content -----------------------------------------------------------
 
-    def set_environment(self, environment: Environment | str | None) -> None:
+    def set_environment(
+        self, environment: Environment | str | None, *, incremental: bool = False
+    ) -> None:
         """Upload ``environment`` (a name or path is loaded first); the one already
-        uploaded is kept (an exposure change hands the same one again)."""
-        if self.environment is not None and self.environment.env is environment:
+        uploaded is kept (an exposure change hands the same one again).
+
+        ``incremental``: the texels go up over the next frames (:meth:`sync`, a band
+        each) while the previous environment stays drawn, so a large HDR does not
+        stall the thread that draws; the first environment always goes up at once.
+        """
+        shown = self._next_environment or self.environment
+        if shown is not None and shown.env is environment:
             return
         env = environment if isinstance(environment, Environment) else load_environment(environment)
+        if self._next_environment is not None:  # superseded before it was complete
+            self._next_environment.delete()
+            self._next_environment = None
+        if incremental and self.environment is not None:
+            self._next_environment = EnvironmentTextures(env, incremental=True)
+            return
         if self.environment is not None:
             self.environment.delete()
         self.environment = EnvironmentTextures(env)
+
+    def _upload_environment(self, wait: bool) -> int:
+        """The next band of an incremental environment (``wait``: all of it); once
+        complete it replaces the one drawn. Returns the bytes sent."""
+        pending = self._next_environment
+        if pending is None:
+            return 0
+        sent = pending.upload(1 << 62 if wait else STEP_BYTES)
+        if pending.complete:
+            self.environment.delete()
+            self.environment, self._next_environment = pending, None
+        return sent
 
     def set_mesh(self, mesh: MeshData) -> None:
         if self.mesh is not None:
@@ -121,23 +150,26 @@ class MaterialRenderer:
     @property
     def loading(self) -> bool:
         """A background upload is under way (draw again to continue it)."""
-        return self.textures is not None and self.textures.loading
+        uploading = self.textures is not None and self.textures.loading
+        return uploading or self._next_environment is not None
 
     def mark_dirty(self, keys: Iterable[TileKey]) -> None:
         """Tiles to re-upload before the next frame (the document's dirty signal)."""
         self._pending.update(keys)
 
     def sync(self, *, wait: bool = False) -> int:
-        """Upload the next ready block of a background upload (``wait``: all of it), then,
-        once none is left, the pending dirty tiles; returns the bytes sent.
+        """Upload the next band of an incremental environment and the next ready block
+        of a background upload (``wait``: all of both), then, once none is left, the
+        pending dirty tiles; returns the bytes sent.
 
         Dirty tiles wait for the background upload: a block read before an edit must
         not land over the edit's tiles. While :attr:`paused`, no new block is read.
         """
+        sent = self._upload_environment(wait)
         if self.textures is None:
             self._pending.clear()
-            return 0
-        sent = self.textures.poll(wait=wait, paused=self.paused)
+            return sent
+        sent += self.textures.poll(wait=wait, paused=self.paused)
         if self.textures.loading or not self._pending:
             return sent
         keys, self._pending = self._pending, set()
@@ -220,7 +252,8 @@ class MaterialRenderer:
             GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, previous)
 
     def delete(self) -> None:
-        things = (self.mesh, self.textures, self.environment, self.surface, self.background)
+        things = (self.mesh, self.textures, self.environment, self._next_environment)
+        things += (self.surface, self.background)
         for thing in (*things, self._mirror_overlay):
             if thing is not None:
                 thing.delete()

@@ -151,10 +151,12 @@ class MaterialViewport(QOpenGLWidget):
         return self._mirror
 
     def set_environment(self, environment: Environment | str | None) -> None:
+        """Light with ``environment``: its textures go up a band a frame (the one
+        shown stays until they are all there), so a large HDR never stalls the GUI."""
         self._environment = environment
         if self.renderer is not None:
             with self._current():
-                self.renderer.set_environment(environment)
+                self.renderer.set_environment(environment, incremental=True)
         self.update()
 
     def set_brush(
