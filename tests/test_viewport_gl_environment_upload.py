@@ -66,7 +66,7 @@ def small_steps(monkeypatch):
 
 
 def test_the_environment_goes_up_over_frames_and_lands_texel_for_texel(
-    gl_context, qtbot, small_steps
+    gl_context, qtbot, small_steps, monkeypatch
 ) -> None:
     viewport = shown_viewport(qtbot, 48)
     viewport.render_image(8)  # the renderer exists, with its first environment
@@ -79,16 +79,12 @@ def test_the_environment_goes_up_over_frames_and_lands_texel_for_texel(
         uploads.append(budget_bytes)
         return real_upload(textures, budget_bytes)
 
-    qtbot_patch = pytest.MonkeyPatch()
-    qtbot_patch.setattr(type(viewport.renderer.environment), "upload", counted)
-    try:
-        viewport.set_environment(environment)
-        # nothing sent yet: the previous environment is still the one drawn
-        assert viewport.renderer.environment.env is first
-        assert viewport.renderer.loading
-        qtbot.waitUntil(lambda: not viewport.renderer.loading, timeout=10_000)
-    finally:
-        qtbot_patch.undo()
+    monkeypatch.setattr(type(viewport.renderer.environment), "upload", counted)
+    viewport.set_environment(environment)
+    # nothing sent yet: the previous environment is still the one drawn
+    assert viewport.renderer.environment.env is first
+    assert viewport.renderer.loading
+    qtbot.waitUntil(lambda: not viewport.renderer.loading, timeout=10_000)
     level_bytes = sum(image.nbytes for image in environment.levels)
     assert len(uploads) >= level_bytes // STEP_BYTES // 2  # one band a frame, many frames
     assert all(budget == STEP_BYTES for budget in uploads)
