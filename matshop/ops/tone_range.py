@@ -169,6 +169,9 @@ def group_values(block: np.ndarray, group: ChannelGroup) -> np.ndarray:
 def _plane_values(planes: np.ndarray, group: ChannelGroup) -> np.ndarray:
     """:func:`group_values` of a sample's planes, as planes ``(k, n)`` (the same bits)."""
     if group.curve_mode != "vector":
+        first, count = int(group.channels[0]), len(group.channels)
+        if np.array_equal(group.channels, np.arange(first, first + count)):
+            return planes[first : first + count]  # a view: fancy indexing copied the planes
         return planes[group.channels]
     out = np.empty((1, planes.shape[1]))
     plane_magnitudes(
