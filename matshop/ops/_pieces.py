@@ -105,8 +105,6 @@ _ONE = np.float32(1.0)
 # the bits of sqrt(1/2) rounded to float32: a float's bits less these, over 2^23
 # and floored, are the k with x / 2^k in [sqrt(1/2), sqrt(2)) (musl's logf trick)
 _OFFSET = np.float32(0x3F3504F3)
-# adding 1.5 * 2^23 rounds a float32 of magnitude below 2^22 to an integer
-_ROUND = np.float32(12582912.0)
 # log2 m = u / ln 2 + u^2 Q(u), u = m - 1 over m in [sqrt(1/2), sqrt(2)): Q of degree 7
 # fitted for the least largest error (Lawson's reweighted least squares on Chebyshev
 # nodes), 9.3e-9 absolute; no division, unlike the atanh series' form in (m - 1) / (m + 1)
