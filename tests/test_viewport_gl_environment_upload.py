@@ -125,3 +125,29 @@ def test_an_image_of_the_view_waits_for_the_whole_environment(gl_context, qtbot,
     assert not viewport.renderer.loading
     assert np.array_equal(got, expected)
     assert_on_the_gpu(viewport, environment)
+
+
+def test_going_back_to_the_environment_drawn_drops_the_one_on_its_way(
+    gl_context, qtbot, small_steps
+) -> None:
+    """Choosing another environment and then the one shown again (a quick change of
+    mind in the lighting menu) sends nothing more: the drawn textures stay, the
+    half-sent ones are deleted."""
+    viewport = shown_viewport(qtbot, 48)
+    shown = hdr(64, seed=5)
+    viewport.set_environment(shown)
+    qtbot.waitUntil(lambda: not viewport.renderer.loading, timeout=10_000)
+    drawn = viewport.renderer.environment
+    viewport.set_environment(hdr(96, seed=6))
+    viewport.renderer.sync()
+    pending = viewport.renderer._next_environment
+    names = (pending.radiance, pending.irradiance)
+    viewport.set_environment(shown)
+    assert not viewport.renderer.loading
+    assert viewport.renderer.environment is drawn  # the same textures, not sent again
+    viewport.makeCurrent()
+    try:
+        assert not any(GL.glIsTexture(name) for name in names)
+    finally:
+        viewport.doneCurrent()
+    assert_on_the_gpu(viewport, shown)

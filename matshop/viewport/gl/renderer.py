@@ -86,13 +86,15 @@ class MaterialRenderer:
         each) while the previous environment stays drawn, so a large HDR does not
         stall the thread that draws; the first environment always goes up at once.
         """
-        shown = self._next_environment or self.environment
-        if shown is not None and shown.env is environment:
+        pending = self._next_environment
+        if pending is not None and pending.env is environment:
             return
-        env = environment if isinstance(environment, Environment) else load_environment(environment)
-        if self._next_environment is not None:  # superseded before it was complete
-            self._next_environment.delete()
+        if pending is not None:  # superseded before it was complete
+            pending.delete()
             self._next_environment = None
+        if self.environment is not None and self.environment.env is environment:
+            return  # back to the one drawn: nothing to send
+        env = environment if isinstance(environment, Environment) else load_environment(environment)
         if incremental and self.environment is not None:
             self._next_environment = EnvironmentTextures(env, incremental=True)
             return
