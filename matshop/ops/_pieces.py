@@ -343,11 +343,12 @@ def _is_frame(vectors, first, stop, quadrature):
 
 
 @njit(**_FLAGS)
-def _vector_squares(src, vectors, first, stop, quadrature, squares):
-    """``squares[col] = sum(q v^2)`` of the group ``vectors[first:stop]`` of a row (W, C)."""
+def _vector_squares(src, vectors, first, stop, quadrature, frame, squares):
+    """``squares[col] = sum(q v^2)`` of the group ``vectors[first:stop]`` of a row (W, C)
+    (``frame``: :func:`_is_frame`)."""
     channels = np.uint64(src.shape[1])
     flat = src.reshape(-1)
-    if _is_frame(vectors, first, stop, quadrature):
+    if frame:
         # unsigned indices: a signed one is checked for wraparound at every load
         at = np.uint64(vectors[first])
         for col in range(src.shape[0]):
@@ -364,10 +365,11 @@ def _vector_squares(src, vectors, first, stop, quadrature, squares):
 
 
 @njit(**_FLAGS)
-def _vector_scale(src, vectors, first, stop, quadrature, gain, out):
-    """``out = src * gain`` on the group's channels of a row (W, C)."""
+def _vector_scale(src, vectors, first, stop, frame, gain, out):
+    """``out = src * gain`` on the group's channels of a row (W, C) (``frame``:
+    :func:`_is_frame`)."""
     channels = np.uint64(src.shape[1])
-    if _is_frame(vectors, first, stop, quadrature):
+    if frame:
         flat_src, flat_out = src.reshape(-1), out.reshape(-1)
         at = np.uint64(vectors[first])
         for col in range(src.shape[0]):
@@ -433,12 +435,13 @@ def _vectors_row(
     squares, gain = scratch[0], scratch[1]
     for g in range(bounds.shape[0] - 1):
         first, stop = bounds[g], bounds[g + 1]
-        _vector_squares(src, vectors, first, stop, quadrature, squares)
+        frame = _is_frame(vectors, first, stop, quadrature)
+        _vector_squares(src, vectors, first, stop, quadrature, frame, squares)
         _vector_gains(
             squares, ranges[g, 0], ranges[g, 1], ranges[g, 2], constants[g],
             breaks, coeffs, power, gain,
         )  # fmt: skip
-        _vector_scale(src, vectors, first, stop, quadrature, gain, out)
+        _vector_scale(src, vectors, first, stop, frame, gain, out)
 
 
 @njit(parallel=True, **_FLAGS)
