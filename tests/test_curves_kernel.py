@@ -22,7 +22,7 @@ from matshop.io.material_io import load_material
 from matshop.material import Schema
 from matshop.ops.curves import curve_lut, curve_ranges, curves, levels, levels_lut
 from matshop.ops.selection import Selection
-from matshop.ops.tone_range import MAX_SAMPLES, SAMPLE_RUN, _sample, percentiles, tail_slope
+from matshop.ops.tone_range import MAX_SAMPLES, _sample, percentiles, tail_slope
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
 SCHEMA = Schema.from_names(["base_color", "distribution", "normal", "metallic"])
@@ -265,11 +265,8 @@ def test_percentiles_of_real_looking_columns_are_numpys(count: int, order_path) 
 
 
 def _drawn_index(texels: int) -> np.ndarray:
-    """The documented draw: runs of SAMPLE_RUN consecutive texels from seed 0's starts."""
-    starts = np.random.default_rng(0).integers(
-        0, texels - SAMPLE_RUN + 1, MAX_SAMPLES // SAMPLE_RUN
-    )
-    return np.concatenate([np.arange(start, start + SAMPLE_RUN) for start in np.sort(starts)])
+    """The documented draw: MAX_SAMPLES texels from seed 0, in order."""
+    return np.sort(np.random.default_rng(0).integers(0, texels, MAX_SAMPLES))
 
 
 def test_the_sample_is_the_fixed_random_draw_of_texels() -> None:

@@ -5,9 +5,8 @@ and then sorts each channel's values. numpy's ``np.take`` gives the texels
 interleaved, ``(n, k)``, so every channel's sort and the magnitudes of a
 frame then ran over strided columns (a third of the ranges' time on 10
 channels); this gather writes each channel as its own contiguous plane, on all
-threads (the draw touches most cache lines of the map: it is a read of the
-whole array, not of 2^18 texels). A vector's magnitudes are then one pass
-over its planes.
+threads (each drawn texel is a cache miss: the threads wait on memory side by
+side). A vector's magnitudes are then one pass over its planes.
 """
 
 from __future__ import annotations

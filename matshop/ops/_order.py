@@ -1,15 +1,16 @@
 """Order statistics of float planes: a radix select, or numpy's vectorised sort.
 
 A tone range needs three percentiles (six order statistics) of each channel
-of a 2^18-texel sample. Which way is faster depends on the CPU, by a factor
+of a sample of texels. Which way is faster depends on the CPU, by a factor
 of three either way (measured on the real 10-channel set's planes):
 
 - numpy's sort on a CPU with AVX-512 (x86-simd-sort's 512-bit quicksort):
-  0.12-1.3 ms a plane on a Sapphire Rapids, where the radix select takes
-  1.2-2.1 (its second pass, a scattered write, is bound by the dependence
+  on a Sapphire Rapids 0.05-0.3 ms a plane of 2^16 values, where the radix
+  select takes 0.4-1.2 (at 2^18 values 0.12-1.3 against 1.2-2.1; the
+  select's second pass, a scattered write, is bound by the dependence
   through its fill counters);
-- elsewhere the radix select: on an AMD Zen3 (AVX2) sorting every plane took
-  2.2 ms a plane, three times the radix select. It reads each plane twice: a
+- elsewhere the radix select: on an AMD Zen3 (AVX2) sorting a plane of 2^18
+  values took 2.2 ms, three times the radix select. It reads each plane twice: a
   histogram of the values' top 16 bits (as sortable integers), then the
   values of the few buckets that hold a wanted rank, which are sorted alone.
 
