@@ -208,6 +208,27 @@ def test_srgb_rational_fast_path_over_a_dense_float32_grid(curve: str) -> None:
     np.testing.assert_array_equal(K.transfer(-x, np.empty_like(x), code), -got.astype(np.float32))
 
 
+@pytest.mark.parametrize("curve", ["phong_median", "phong_median_inverse"])
+def test_phong_median_over_a_dense_float32_grid(curve: str) -> None:
+    """The fitted polynomials over the whole domain (every 2^9-th float32 exponent up
+    to N_MAX, every 2^6-th angle between the clamps): within an ulp of numpy's float64
+    closed forms, and equal to them rounded nearly everywhere -- also next to n = 0,
+    where the inverse's factor pi/4 - e keeps the digits a difference would lose."""
+    code, kwargs, reference = CURVES[curve]
+    if curve == "phong_median":
+        x = _float32_grid(0.0, phong.N_MAX, 1 << 9)
+    else:
+        x = _float32_grid(*_PHONG_E, 1 << 6)
+        x = np.concatenate([x, _float32_grid(0.785, _PHONG_E[1], 1)])  # n from 0 to 1e-3
+    got = K.transfer(x, np.empty_like(x), code, **kwargs)
+    exact = reference(x).astype(np.float32)
+    ulps = np.abs(got.astype(np.float64) - exact) / np.maximum(
+        np.spacing(np.abs(exact)), np.finfo(np.float32).smallest_subnormal
+    )
+    assert ulps.max() <= 1.0
+    assert np.mean(got == exact) > 0.999
+
+
 LAYOUTS = ["packed", "strided_in", "strided_out", "both_strided", "reversed", "3d", "0d", "empty"]
 
 

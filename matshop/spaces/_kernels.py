@@ -109,7 +109,6 @@ _SQRT2 = math.sqrt(2.0)
 _LN2_HI = 6.93147180369123816490e-01  # fdlibm: ln 2 = _LN2_HI + _LN2_LO, k * _LN2_HI exact
 _LN2_LO = 1.90821492927058770002e-10
 _INV_LN2 = 1.44269504088896338700e00
-_LN2 = math.log(2.0)
 _MANTISSA = np.int64(0x000FFFFFFFFFFFFF)
 _EXP_ONE = np.int64(0x3FF0000000000000)
 # adding 1.5 * 2^52 rounds a double (|x| < 2^51) to an integer, which then
@@ -559,111 +558,96 @@ def _curve_simple(row, count, curve, lo, hi):
             row[k] = _clamp(row[k], lo, hi)
 
 
-# expm1(t) = t + t^2 R(t) on [-ln 2 / 2, 0] (the Phong median's range), R of degree 7
-# fitted on Chebyshev nodes to 40-digit values: 6.6e-16 relative
-_EM = (
-    0.4999999999999985,
-    0.16666666666609967,
-    0.041666666632185906,
-    0.008333332534616128,
-    0.0013888797913132783,
-    0.00019835628191435068,
-    2.460677659133208e-05,
-    2.400988179468988e-06,
+# The Phong median angle e = acos(2^(-1/(n+2))) and back, each as a closed part times
+# a smooth polynomial (scripts/fit_phong_median.py fits them to 50-digit values; largest
+# relative error in the comment). The closed parts need a reciprocal square root and a
+# reciprocal: float32's, refined by one float64 Newton step, which took half the time of
+# float64's square root and division (those two were most of the old kernels' time).
+
+# e = sqrt(x) G(x), x = 1/(n + 2) in [0, 1/2]: degree 7, 8.9e-15
+_PHONG_G = (
+    1.1774100225154842,
+    -0.13601973958071018,
+    0.004714085049177409,
+    0.0011669822695229359,
+    -4.7173608160635394e-05,
+    -2.8293959163284484e-05,
+    9.23071920303804e-07,
+    7.529243477498661e-07,
 )
-
-
-@njit(**_INLINE)
-def _expm1_small(t):
-    """``exp(t) - 1`` for ``-ln 2 / 2 <= t <= 0``: relative error about 7e-16.
-
-    Estrin's scheme (pairs, then powers of t^2): its chain of dependent
-    operations is half Horner's, and the Phong median kernel was bound by
-    that chain's latency, not by the count of operations.
-    """
-    t2 = t * t
-    t4 = t2 * t2
-    low = (_EM[0] + t * _EM[1]) + t2 * (_EM[2] + t * _EM[3])
-    high = (_EM[4] + t * _EM[5]) + t2 * (_EM[6] + t * _EM[7])
-    return t + t2 * (low + t4 * high)
-
-
-@njit(**_INLINE)
-def _log1p_small(y):
-    """``ln(1 + y)`` for ``-0.3 <= y <= 0.3``: 2 atanh(f), f = y / (2 + y), relative error ~1e-16.
-
-    Relative to ``y`` (unlike ``log_pos(1 + y)``), so tiny ``y`` keep their digits;
-    the series runs to f^21 (|f| <= 0.18), so that ``-ln 2 / ln cos e - 2`` near
-    ``e = pi/4`` (n near 0, a difference of nearly equal numbers) stays exact too.
-    """
-    f = y / (2.0 + y)
-    s = f * f
-    series = 1.0 / 21
-    series = series * s + 1.0 / 19
-    series = series * s + 1.0 / 17
-    series = series * s + 1.0 / 15
-    series = series * s + 1.0 / 13
-    series = series * s + 1.0 / 11
-    series = series * s + 1.0 / 9
-    series = series * s + 1.0 / 7
-    series = series * s + 1.0 / 5
-    series = series * s + 1.0 / 3
-    return 2.0 * f + 2.0 * f * (s * series)
-
-
-# asin(s) = s + s^3 R(s^2) for s <= sin(pi/8), R of degree 8 fitted like _EM: 6.5e-16
-_AS = (
-    0.1666666666666704,
-    0.07499999999586712,
-    0.044642857888311016,
-    0.030381892822022714,
-    0.02237394261769865,
-    0.017318370086353962,
-    0.014350188371364389,
-    0.009090408600991834,
-    0.017777193027029455,
+# n = S(e) (pi/4 - e) / e^2 on [0, pi/4]: degree 12, 8e-13; the factor pi/4 - e holds
+# the zero at n = 0, so near it no difference of nearly equal numbers is left
+_PHONG_S = (
+    1.7650848012226286,
+    2.247375768104763,
+    0.020787855637381485,
+    0.02646661182039541,
+    0.004299876314627486,
+    0.005298787644510594,
+    0.0019289403201900777,
+    -0.0015275377311081669,
+    0.007331937224852006,
+    -0.010784459814211795,
+    0.011627039826358241,
+    -0.006904314592555776,
+    0.0020373632766450076,
 )
+# pi/4 as a sum of two doubles: pi/4 - e keeps its digits when e is near pi/4
+_QUARTER_PI_HI = 0.25 * math.pi
+_QUARTER_PI_LO = 3.061616997868383e-17
+# beyond this n + 2 the float32 estimate is 0 (not inf * 0 in the Newton step)
+_HUGE = 1e300
 
 
 @njit(**_INLINE)
-def _asin_small(s):
-    """``asin(s)`` for ``0 <= s <= sin(pi/8)``: relative error about 7e-16.
+def _rsqrt(y):
+    """``1 / sqrt(y)`` for ``y >= 2`` (inf gives 0): relative error about 2e-14."""
+    y = min(y, _HUGE)  # NaN stays NaN
+    r = np.float64(np.float32(1.0) / np.sqrt(np.float32(y)))
+    return r * (1.5 - (0.5 * y) * (r * r))
 
-    No division or square root (what an ``atan2`` form costs), so it is cheap
-    where it applies: the Phong median angle, ``s = sin(e / 2) <= sin(pi/8)``.
-    Estrin's scheme, as :func:`_expm1_small`.
-    """
-    z = s * s
-    z2 = z * z
-    z4 = z2 * z2
-    low = (_AS[0] + z * _AS[1]) + z2 * (_AS[2] + z * _AS[3])
-    high = (_AS[4] + z * _AS[5]) + z2 * (_AS[6] + z * _AS[7])
-    return s + (s * z) * (low + z4 * (high + z4 * _AS[8]))
+
+@njit(**_INLINE)
+def _reciprocal(v):
+    """``1 / v`` for ``v`` a float32 value within float32's normal range: about 4e-15."""
+    r = np.float64(np.float32(1.0) / np.float32(v))
+    return r * (2.0 - v * r)
 
 
 @njit(**_INLINE)
 def _phong_median_to_edit(n):
-    """``2 asin(sqrt((1 - 2^(-1/(n+2))) / 2))``, the median angle of ``cos^n``.
-
-    ``1 - cos e = -expm1(-ln 2 / (n + 2))`` keeps full precision for huge ``n``
-    (tiny angles); ``n = inf`` gives 0, NaN stays NaN.
-    """
-    s = math.sqrt(-0.5 * _expm1_small(-_LN2 / (n + 2.0)))  # sin(e/2) <= sin(pi/8)
-    e = 2.0 * _asin_small(s)
-    return e if n == n else n
+    """``2 asin(sqrt((1 - 2^(-1/(n+2))) / 2))``, the median angle of ``cos^n``, as
+    ``r G(r^2)`` with ``r = 1 / sqrt(n + 2)``; ``n = inf`` gives 0, NaN stays NaN."""
+    r = _rsqrt(n + 2.0)
+    x = r * r
+    x2 = x * x
+    g = _PHONG_G
+    low = (g[0] + x * g[1]) + x2 * (g[2] + x * g[3])
+    high = (g[4] + x * g[5]) + x2 * (g[6] + x * g[7])
+    return r * (low + (x2 * x2) * high)
 
 
 @njit(**_INLINE)
 def _phong_median_from_edit(e, p):
-    """``-ln 2 / ln(cos e) - 2`` clamped to ``[0, p]``; ``ln cos e = log1p(-2 sin^2(e/2))``."""
-    half = 0.5 * e
-    sin_half = sin_small(half, half * half)
-    return _clamp(-_LN2 / _log1p_small(-2.0 * sin_half * sin_half) - 2.0, 0.0, p)
+    """``-ln 2 / ln(cos e) - 2`` clamped to ``[0, p]``, for ``e`` a float32 value in
+    ``[median(p), float32(pi/4)]``: ``S(e) (pi/4 - e) / e^2``."""
+    k = _PHONG_S
+    e2 = e * e
+    e4 = e2 * e2
+    e8 = e4 * e4
+    low = ((k[0] + e * k[1]) + e2 * (k[2] + e * k[3])) + e4 * (
+        (k[4] + e * k[5]) + e2 * (k[6] + e * k[7])
+    )
+    high = ((k[8] + e * k[9]) + e2 * (k[10] + e * k[11])) + e4 * k[12]
+    inverse = _reciprocal(e)
+    d = (_QUARTER_PI_HI - e) + _QUARTER_PI_LO
+    return _clamp((low + e8 * high) * d * (inverse * inverse), 0.0, p)
 
 
-# The two Phong median loops take the row's halves side by side: each value is a long
-# chain of dependent operations (two divisions or a square root among them), and two
-# independent chains a step keep the out-of-order core busy where one left it waiting.
+# The two Phong median loops take the row's halves side by side: each value is a chain
+# of dependent operations, and two independent chains a step keep the out-of-order
+# core busy where one left it waiting (to the edit space 0.81 of the old kernel's time
+# in one value a step, 0.74 in two).
 
 
 @njit(**_WORKER)

@@ -118,10 +118,11 @@ def small_angle_from_edit(e: np.ndarray) -> np.ndarray:
 def median_to_edit(n: np.ndarray) -> np.ndarray:
     """Median angle ``acos(2^(-1/(n+2)))`` in radians, in ``(0, pi/4]``.
 
-    Evaluated as ``2 asin(sqrt((1 - cos e) / 2))`` with ``1 - cos e =
-    -expm1(-ln 2 / (n + 2))`` so that large exponents (tiny angles) keep full
-    precision: one fused kernel pass in float64 (``_kernels``), correctly
-    rounded to float32 within half an ulp (tests/test_kernels.py).
+    Evaluated as ``sqrt(x) G(x)``, ``x = 1/(n + 2)`` and ``G`` a fitted
+    polynomial, so that large exponents (tiny angles) keep full precision: one
+    fused kernel pass in float64 (``_kernels``), within an ulp of the float32
+    rounding of the exact value and equal to it nearly everywhere
+    (tests/test_kernels.py).
     """
     return _MEDIAN_TO.run(*_in_out(n))
 
@@ -129,8 +130,10 @@ def median_to_edit(n: np.ndarray) -> np.ndarray:
 def median_from_edit(e: np.ndarray) -> np.ndarray:
     """``-ln 2 / ln(cos e) - 2`` with ``e`` clamped to ``[median(N_MAX), pi/4]``.
 
-    ``ln(cos e)`` is evaluated as ``log1p(-2 sin^2(e/2))`` in float64 (one fused
-    kernel pass): float32 arithmetic lost up to 3e-4 relative near ``N_MAX``.
+    Evaluated in float64 (one fused kernel pass) as ``S(e) (pi/4 - e) / e^2``,
+    ``S`` a fitted polynomial: float32 arithmetic of the closed form lost up to
+    3e-4 relative near ``N_MAX``, and the difference ``... - 2`` loses digits
+    near ``n = 0``, where the factor ``pi/4 - e`` keeps them.
     """
     return _MEDIAN_FROM.run(*_in_out(e))
 
