@@ -622,8 +622,8 @@ def _phong_median_to_edit(n):
 
 @njit(**_INLINE)
 def _phong_median_from_edit(e, p):
-    """``-ln 2 / ln(cos e) - 2`` clamped to ``[0, p]``, for ``e`` a float32 value in
-    ``[median(p), float32(pi/4)]``: ``S(e) (pi/4 - e) / e^2``."""
+    """``-ln 2 / ln(cos e) - 2`` clamped to ``[0, p]``, for ``e`` in ``[median(p),
+    float32(pi/4)]`` (the kernel's clamp): ``S(e) (pi/4 - e) / e^2``."""
     k = _PHONG_S
     e2 = e * e
     e4 = e2 * e2
