@@ -222,7 +222,7 @@ def order_path(request, monkeypatch) -> str:
     """Both ways to the order statistics, whichever this CPU would take (``_order``)."""
     from matshop.ops import _order
 
-    monkeypatch.setattr(_order, "SORT_IS_VECTORISED", request.param == "sort")
+    monkeypatch.setattr(_order, "METHOD", request.param)
     return request.param
 
 

@@ -2,35 +2,37 @@
 
 A tone range needs three percentiles (six order statistics) of each channel
 of a sample of texels. Which way is faster depends on the CPU, by a factor
-of three either way (measured on the real 10-channel set's planes):
+of three to five either way (measured on the real 10-channel set's planes of
+2^16 values):
 
-- numpy's sort on a CPU with AVX-512 (x86-simd-sort's 512-bit quicksort):
-  on a Sapphire Rapids 0.05-0.3 ms a plane of 2^16 values, where the radix
-  select takes 0.4-1.2 (at 2^18 values 0.12-1.3 against 1.2-2.1; the
-  select's second pass, a scattered write, is bound by the dependence
-  through its fill counters);
-- elsewhere the radix select: on an AMD Zen3 (AVX2) sorting a plane of 2^18
-  values took 2.2 ms, three times the radix select. It reads each plane twice: a
-  histogram of the values' top 16 bits (as sortable integers), then the
-  values of the few buckets that hold a wanted rank, which are sorted alone.
+- numpy's sort on an Intel CPU with AVX-512 (x86-simd-sort's 512-bit
+  quicksort): on a Sapphire Rapids 0.05-0.3 ms a plane, where the radix
+  select takes 0.4-1.2;
+- the radix select on an AMD Zen 4, though it has AVX-512 too (its
+  compressing stores, which that quicksort partitions with, are slow): the
+  sort 0.5-1.4 ms a plane, the select 0.18-0.5; on a Zen 3 (AVX2) at 2^18
+  values the sort took three times the select. The select reads each plane
+  twice: a histogram of the values' top 16 bits (as sortable integers), then
+  the values of the few buckets that hold a wanted rank, which are sorted
+  alone.
 
-Both give the same values, bit for bit (a sort's order statistics).
+So the choice is measured, once per process, on a plane of random values
+(:func:`_faster_method`), not read from the CPU's features. Both give the
+same values, bit for bit (a sort's order statistics).
 """
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 from numba import njit
 
-try:  # numpy's own record of the CPU features its kernels dispatch on
-    from numpy._core._multiarray_umath import __cpu_features__ as _NUMPY_CPU
-except ImportError:  # numpy 1.x
-    from numpy.core._multiarray_umath import __cpu_features__ as _NUMPY_CPU
-
-#: numpy's sort runs its AVX-512 quicksort here (numpy >= 1.25 on such a CPU)
-SORT_IS_VECTORISED = (
-    bool(_NUMPY_CPU.get("AVX512_SKX")) and np.lib.NumpyVersion(np.__version__) >= "1.25.0"
-)
+#: "sort" or "radix": the faster way on this CPU, measured on first use
+#: (:func:`_faster_method`); tests set it to run either
+METHOD: str | None = None
+#: values in the plane the two ways are timed on: the size of a tone range's sample
+_TRIAL_VALUES = 1 << 16
 
 #: the histogram's buckets: the top bits of the sortable key
 _BUCKET_BITS = 16
@@ -109,8 +111,9 @@ def order_statistics(planes: np.ndarray, ranks: np.ndarray) -> np.ndarray | None
     """
     ranks = np.asarray(ranks, dtype=np.int64)
     out = np.empty((planes.shape[0], ranks.size), dtype=planes.dtype)
+    by = _by_sort if _method() == "sort" else _by_radix
     for row, plane in zip(out, planes, strict=True):
-        found = _by_sort(plane, ranks) if SORT_IS_VECTORISED else _by_radix(plane, ranks)
+        found = by(plane, ranks)
         if found is None:
             return None
         row[:] = found
@@ -138,3 +141,28 @@ def _by_radix(plane: np.ndarray, ranks: np.ndarray) -> np.ndarray | None:
         if bucket.min() != bucket.max():  # a flat area's one value needs no sort
             bucket.sort()
     return values[first[slot] + ranks - before]
+
+
+def _method() -> str:
+    global METHOD
+    if METHOD is None:
+        METHOD = _faster_method()
+    return METHOD
+
+
+def _faster_method(repeats: int = 3) -> str:
+    """"sort" or "radix", whichever found the order statistics of one plane of
+    random normal values faster (the best of ``repeats`` runs each, after one
+    run each to load the code): about 5 ms, once."""
+    plane = np.random.default_rng(0).normal(size=_TRIAL_VALUES).astype(np.float32)
+    ranks = np.array([_TRIAL_VALUES // 200, _TRIAL_VALUES // 2, _TRIAL_VALUES - 1])
+    best = {}
+    for name, by in (("sort", _by_sort), ("radix", _by_radix)):
+        by(plane, ranks)
+        times = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            by(plane, ranks)
+            times.append(time.perf_counter() - start)
+        best[name] = min(times)
+    return min(best, key=best.get)
