@@ -73,3 +73,37 @@ def test_a_verb_runs_with_rare_collections_and_restores_them(
     assert main(["info", str(target)]) == (0 if target.exists() else 2)
     assert seen[0][0] == 50_000 and seen[0][1:] == before[1:]
     assert gc.get_threshold() == before
+
+
+_SETUP_PROBE = """
+import sys, threading
+import numpy as np
+from matshop import jit_setup
+from matshop.io.material_io import load_material
+
+def setups():
+    return [t for t in threading.enumerate() if t.name == "matshop-jit-setup"]
+
+assert not jit_setup._started.is_set()
+material, _ = load_material(sys.argv[1])
+edit = material.to_edit()  # a kernel on this thread while the set-up may still run
+started = jit_setup._started.is_set()
+for thread in setups():
+    thread.join(60)
+jit_setup.start_in_background()  # once per process: no second thread
+same_size = edit.data.shape[:2] == material.maps["base_color"].shape[:2]
+print(started, len(setups()), same_size and bool(np.isfinite(edit.data).all()))
+"""
+
+
+def test_a_load_sets_numba_up_on_a_thread_once(tmp_path: Path) -> None:
+    """In a fresh process the load's first kernel races numba's set-up on the thread
+    ``load_material`` started; both finish and later calls start nothing."""
+    done = subprocess.run(
+        [sys.executable, "-c", _SETUP_PROBE, str(SAMPLE)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=True,
+    )
+    assert done.stdout.split() == ["True", "0", "True"]

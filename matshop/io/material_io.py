@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import MatshopError
+from ..jit_setup import start_in_background
 from ..material import PARAMETER_KINDS, Material, ProgressCallback, Schema
 from ..spaces.frame import decode_normal_map, encode_normal_map, height_to_normal
 from .fileset import PendingFile, write_all
@@ -148,6 +149,7 @@ def load_material(
     else:
         ts = resolve_texture_set(path, material=material, maps=maps)
     check_texture_set(ts)
+    start_in_background()  # numba's set-up while the files are read
     arrays, infos = _read_all(ts, max_pixels, progress)
     report = LoadReport(ts, infos, notes=list(ts.notes))
     maps: dict[str, np.ndarray] = {}
