@@ -9,6 +9,8 @@ the thread a finalizer runs on, read from the interpreter.
 
 from __future__ import annotations
 
+import os
+import sys
 import threading
 import time
 import weakref
@@ -20,7 +22,7 @@ pytest.importorskip("pytestqt")
 
 from PySide6.QtCore import QObject, QThreadPool, Signal  # noqa: E402
 
-from matshop.app.work import start_worker  # noqa: E402
+from matshop.app.work import WORKER_NICENESS, start_worker  # noqa: E402
 
 
 class _Holder(QObject):
@@ -65,3 +67,21 @@ def test_a_plain_pool_start_releases_on_the_worker(qtbot) -> None:
 def test_start_worker_releases_on_the_gui_thread(qtbot) -> None:
     assert _finalized_on(qtbot, start_worker, _Plain) == threading.get_ident()
     assert _finalized_on(qtbot, start_worker, _Holder) == threading.get_ident()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="per-thread niceness is Linux's")
+def test_a_worker_runs_below_the_gui_thread(qtbot) -> None:
+    """The kernel's own view of each thread's niceness: every task's thread is at
+    least WORKER_NICENESS, so on two cores the GUI thread (and the GL rasterizer's
+    threads it waits for) get the CPU first; the GUI thread itself is untouched."""
+    gui_before = os.getpriority(os.PRIO_PROCESS, threading.get_native_id())
+    seen: list[int] = []
+    pool = QThreadPool()
+    for _ in range(3):
+        start_worker(
+            pool, lambda: seen.append(os.getpriority(os.PRIO_PROCESS, threading.get_native_id()))
+        )
+    qtbot.waitUntil(lambda: len(seen) == 3, timeout=10_000)
+    pool.waitForDone()
+    assert min(seen) >= WORKER_NICENESS
+    assert os.getpriority(os.PRIO_PROCESS, threading.get_native_id()) == gui_before

@@ -38,6 +38,7 @@ from ..layers.geometry import TileKey
 from ..render.environment import Environment
 from ..viewport.band_speed import follow_speed
 from . import lit_scene
+from .work import yield_to_the_gui_thread
 
 #: longest the coarse passes should take: the first follows the drag, the second is a
 #: sharper picture while the full one is drawn
@@ -147,6 +148,8 @@ class GLLitWorker(QThread):
 
     def run(self) -> None:  # noqa: D102 - QThread's entry point
         from ..viewport.gl.swatch import SwatchRenderer
+
+        yield_to_the_gui_thread()
 
         if not self._offscreen.make_current():
             self.failed.emit("cannot make the lit display's OpenGL context current")
