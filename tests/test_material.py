@@ -119,3 +119,22 @@ def test_one_pass_conversion_equals_each_space_alone() -> None:
     for param in schema.parameters:
         want = param.space.from_edit(edited[..., schema.edit_slices[param.name]])
         assert np.array_equal(back.maps[param.name], want, equal_nan=True), param.name
+
+
+def test_physical_maps_reuse_the_memory_an_edit_array_of_the_same_bytes_left() -> None:
+    """The maps are C-contiguous, each what its space's own ``from_edit`` gives, and
+    they lie in one pooled buffer: at 2K (above the pool's minimum) the memory of an
+    edit array dropped just before is reused, not mapped anew."""
+    mat = _material(height=512, width=512)  # 8 MB of edit values
+    edit = mat.to_edit()
+    blurred = type(edit)(edit.name, edit.schema, edit.data.copy(), edit.sources)
+    left = edit.data.__array_interface__["data"][0]
+    del edit
+    back = blurred.to_physical()
+    starts = []
+    for param in mat.schema.parameters:
+        got = back.maps[param.name]
+        assert got.flags.c_contiguous and got.shape == (512, 512, param.phys_channels)
+        assert np.array_equal(got, param.space.from_edit(blurred[param.name]))
+        starts.append(got.__array_interface__["data"][0])
+    assert min(starts) == left
