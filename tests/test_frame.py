@@ -464,3 +464,20 @@ def test_height_to_normal_periodic_closed_form_and_shapes():
     nb = height_to_normal(batch, strength=0.5)
     assert nb.shape == (2, rows, cols, 3)
     np.testing.assert_allclose(nb[1], height_to_normal(h, strength=1.0), atol=1e-7)
+
+
+@pytest.mark.parametrize("convention", ["opengl", "directx"])
+def test_decoding_in_place_is_the_same_bits_and_leaves_views_alone(convention) -> None:
+    """A loader's own contiguous float32 pixels are decoded over themselves, to the bits
+    a new array gets; a strided view (the RGB of an RGBA file) is never written."""
+    rng = np.random.default_rng(5)
+    rgb = rng.random((64, 48, 3), dtype=np.float32)
+    rgb[3, 4] = 0.5  # a zero-length texel: the flat normal
+    expected = decode_normal_map(rgb, convention=convention)
+    pixels = rgb.copy()
+    got = decode_normal_map(pixels, convention=convention, in_place=True)
+    assert np.shares_memory(got, pixels) and np.array_equal(got, expected)
+    rgba = np.concatenate([rgb, np.ones((64, 48, 1), np.float32)], axis=2)
+    before = rgba.copy()
+    view = decode_normal_map(rgba[..., :3], convention=convention, in_place=True)
+    assert np.array_equal(rgba, before) and np.array_equal(view, expected)

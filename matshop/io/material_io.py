@@ -259,7 +259,8 @@ def _load_frame(
         )
         if note is not None:
             report.notes.append(f"{path.name}: {note}")
-        normal = decode_normal_map(rgb[..., :3], convention=convention)
+        # the file's pixels are not read again: decoded over themselves
+        normal = decode_normal_map(rgb[..., :3], convention=convention, in_place=True)
         if "tangent" in arrays:
             tangent = decode_normal_map(arrays["tangent"][..., :3], convention=convention)
             normal = np.concatenate([normal, tangent], axis=2)

@@ -310,16 +310,22 @@ def _as_unit_interval(rgb: np.ndarray, what: str) -> np.ndarray:
     return arr.astype(np.float32, copy=False)
 
 
-def decode_normal_map(rgb: np.ndarray, *, convention: Convention = "opengl") -> np.ndarray:
+def decode_normal_map(
+    rgb: np.ndarray, *, convention: Convention = "opengl", in_place: bool = False
+) -> np.ndarray:
     """Normal-map pixels (..., 3) -> unit OpenGL tangent-space normals (..., 3), float32.
 
     ``rgb`` is float in [0, 1] (integer arrays are divided by their dtype's
     maximum, e.g. 255 for uint8). ``n = 2 rgb - 1``; for ``"directx"`` files the
     green channel is flipped (their +Y points down the image); the result is
     renormalised, and zero-length pixels decode to the flat normal ``+z``.
+    ``in_place``: written over ``rgb`` when it is C-contiguous float32 (a loader's
+    own pixels, not needed after: no second full-size array to map).
     """
     _check_convention(convention)
-    return _rows_through(decode_normals, _as_unit_interval(rgb, "decode_normal_map"), convention)
+    pixels = _as_unit_interval(rgb, "decode_normal_map")
+    reuse = in_place and pixels is rgb and rgb.dtype == np.float32 and rgb.flags.c_contiguous
+    return _rows_through(decode_normals, pixels, convention, out=rgb if reuse else None)
 
 
 def encode_normal_map(normal: np.ndarray, *, convention: Convention = "opengl") -> np.ndarray:
@@ -332,16 +338,19 @@ def encode_normal_map(normal: np.ndarray, *, convention: Convention = "opengl") 
     return _rows_through(encode_normals, as_channels(normal, 3, "encode_normal_map"), convention)
 
 
-def _rows_through(kernel, v: np.ndarray, convention: Convention) -> np.ndarray:
-    """``kernel(rows, sign_y, tiny, out)`` over the 3-vectors of float32 ``v``, a new array.
+def _rows_through(
+    kernel, v: np.ndarray, convention: Convention, out: np.ndarray | None = None
+) -> np.ndarray:
+    """``kernel(rows, sign_y, tiny, out)`` over the 3-vectors of float32 ``v``, into a
+    new array or ``out`` (``v`` itself: the kernels read a texel whole before writing it).
 
     A 2K map is decoded or encoded in one pass into one new array (numpy took
     three to five full-size temporaries, each a fresh allocation to fault in).
     """
     rows = np.ascontiguousarray(v).reshape(-1, 3)
-    out = np.empty_like(rows)
-    kernel(rows, _F32(-1.0 if convention == "directx" else 1.0), _TINY_LENGTH, out)
-    return out.reshape(v.shape)
+    out_rows = np.empty_like(rows) if out is None else out.reshape(-1, 3)
+    kernel(rows, _F32(-1.0 if convention == "directx" else 1.0), _TINY_LENGTH, out_rows)
+    return out_rows.reshape(v.shape)
 
 
 def _height_image(height: np.ndarray) -> np.ndarray:
