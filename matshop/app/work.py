@@ -81,8 +81,9 @@ _reaper: _Reaper | None = None
 
 #: the niceness of worker threads: CPU time goes to the GUI thread (and the GL
 #: rasterizer's threads it waits for) first. Measured on 2 cores under Xvfb while
-#: a 4096 x 2048 HDR loaded: at the workers' default priority the rasterizer's
-#: threads waited on them and a frame stalled the event loop for up to 300-490 ms
+#: a 4096 x 2048 HDR loaded (tests/test_app_lighting.py, memory made cold first):
+#: at the workers' default priority the event loop stalled 279-488 ms in 3 of 13
+#: runs (348 ms in a CI run); at this niceness at most 113 ms in 8 runs
 WORKER_NICENESS = 10
 _niced = threading.local()
 
