@@ -85,19 +85,19 @@ _reaper: _Reaper | None = None
 #: at the workers' default priority the event loop stalled 279-488 ms in 3 of 13
 #: runs (348 ms in a CI run); at this niceness at most 113 ms in 8 runs
 WORKER_NICENESS = 10
-_niced = threading.local()
 
 
 def yield_to_the_gui_thread() -> None:
-    """Lower this worker thread's priority, once per thread (Linux: niceness is per
-    thread, and the threads it starts, numba's OpenMP team among them, inherit it)."""
-    if getattr(_niced, "done", False):
+    """Lower this worker thread's priority to :data:`WORKER_NICENESS` if it is above
+    it (Linux: niceness is per thread, and the threads it starts, numba's OpenMP team
+    among them, inherit it; two system calls, nothing beside a task's work)."""
+    if not sys.platform.startswith("linux"):
         return
-    _niced.done = True
-    if sys.platform.startswith("linux"):
-        with contextlib.suppress(OSError):
-            now = os.getpriority(os.PRIO_PROCESS, threading.get_native_id())
-            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), max(now, WORKER_NICENESS))
+    thread = threading.get_native_id()
+    with contextlib.suppress(OSError):
+        now = os.getpriority(os.PRIO_PROCESS, thread)
+        if now < WORKER_NICENESS:
+            os.setpriority(os.PRIO_PROCESS, thread, WORKER_NICENESS)
 
 
 def start_worker(pool: QThreadPool, task: Callable[[], None]) -> None:
