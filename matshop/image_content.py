@@ -26,6 +26,7 @@ import numpy as np
 
 from .api import load_mask
 from .errors import InvalidValue, MatshopError
+from .finite import all_finite
 from .io.images import luminance, probe_image, read_image, resample_image
 from .layers import Document
 from .layers.layer import PaintLayer
@@ -127,7 +128,7 @@ def image_values(
                 edit = param.space.to_edit(np.ascontiguousarray(phys, dtype=np.float32))
         except (InvalidValue, ValueError) as exc:
             raise MatshopError(str(exc), path) from None
-        if not np.isfinite(edit).all():
+        if not all_finite(edit):
             raise MatshopError(f"its values are out of range for {name}", path)
         out[..., doc.schema.edit_slices[name]] = edit
     return out, notes

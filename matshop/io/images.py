@@ -24,6 +24,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 from matshop.errors import MatshopError
+from matshop.finite import all_finite
 from matshop.io.atomic import atomic_target
 from matshop.io.guard import check_input_file, check_text_name
 from matshop.io.png_settings import PNG_FILTER, PNG_FILTERS, PNG_LEVEL
@@ -303,10 +304,9 @@ def _check_size(info: ImageInfo, depth: int, max_pixels: int) -> None:
 
 
 def _check_finite(pixels: np.ndarray, path: Path, verb: str) -> None:
-    finite = np.isfinite(pixels)
-    if finite.all():
+    if all_finite(pixels):
         return
-    bad = int((~finite.all(axis=-1)).sum())
+    bad = int((~np.isfinite(pixels).all(axis=-1)).sum())
     nan = int(np.isnan(pixels).any(axis=-1).sum())
     raise MatshopError(
         f"{verb} NaN or Inf values in {bad} of {pixels.shape[0] * pixels.shape[1]} texels "

@@ -50,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from .. import __version__
+from ..finite import all_finite
 from ..layers import Document, FillLayer, FilterLayer, Layer, PaintLayer
 from ..layers.tiles import TileGrid
 
@@ -220,7 +221,7 @@ def _encode_grid(grid: TileGrid, member: str, what: str, payloads: list[Payload]
     tiles = [grid.get(key) for key in keys]
     for tile in tiles:
         assert tile is not None
-        if not np.isfinite(tile).all():
+        if not all_finite(tile):
             raise FormatProblem(f"{what} hold NaN or infinite values")
     nbytes = sum(tile.size * 4 for tile in tiles if tile is not None)
 
@@ -248,7 +249,7 @@ def _encode_array(array: np.ndarray, member: str, what: str, payloads: list[Payl
         dtype, data = "<f8", np.ascontiguousarray(array, dtype="<f8")
     else:
         raise FormatProblem(f"{what}: cannot store an array of {array.dtype}")
-    if dtype != "|b1" and not np.isfinite(data).all():
+    if dtype != "|b1" and not all_finite(data):
         raise FormatProblem(f"{what} holds NaN or infinite values")
     payloads.append(Payload(member, data.nbytes, lambda: iter([memoryview(data).cast("B")])))
     return {"member": member, "dtype": dtype, "shape": list(data.shape)}

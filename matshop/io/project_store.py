@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MatshopError, naming
+from ..finite import all_finite
 from ..layers import Document, Layer
 from ..layers.tiles import TileGrid, freeze
 from ..memory import require_memory
@@ -298,7 +299,7 @@ def _read_member(
         return data.view(bool).reshape(ref.shape)  # type: ignore[union-attr]
     values = data.view(dtype)
     assert values.itemsize == ARRAY_DTYPES[dtype]
-    if not np.isfinite(values).all():
+    if not all_finite(values):
         raise FormatProblem(f"{ref.what} holds NaN or infinite values")
     if isinstance(ref, ArraySpec):
         return values.reshape(ref.shape).astype(np.dtype(dtype).newbyteorder("="), copy=False)

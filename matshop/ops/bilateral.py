@@ -48,6 +48,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from ..finite import all_finite
 from ._permutohedral import filter_tiles, key_primes, locate
 from ._separable import run_separable
 from .spec import OpError
@@ -361,8 +362,7 @@ def bilateral_filter(
 
 
 def _check_finite(values: np.ndarray) -> None:
-    # a float64 sum of float32 values cannot overflow: it is finite iff they all are
-    if not math.isfinite(np.add.reduce(values, axis=None, dtype=np.float64)):
+    if not all_finite(values):
         raise OpError(_NOT_FINITE)
 
 

@@ -22,6 +22,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ..errors import InvalidValue
+from ..finite import all_finite
 
 ParamKind = Literal[
     "float", "int", "bool", "choice", "points", "offset", "path", "region", "floats"
@@ -196,9 +197,8 @@ def run_op(what: str, function: Callable[..., np.ndarray], *args: Any, **kwargs:
     """
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         result = function(*args, **kwargs)
-    finite = np.isfinite(result)
-    if not finite.all():
-        bad = int((~finite.reshape(*result.shape[:2], -1).all(axis=-1)).sum())
+    if not all_finite(result):
+        bad = int((~np.isfinite(result).reshape(*result.shape[:2], -1).all(axis=-1)).sum())
         raise OpError(f"{what} produced NaN or infinite values in {bad} texel(s)")
     return result
 
