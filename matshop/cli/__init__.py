@@ -17,7 +17,11 @@ from collections.abc import Sequence
 from .. import __version__
 from ..errors import MatshopError
 from .registry import VERBS, load
-from .startup import fewer_collections, numba_without_unused_extras
+from .startup import (
+    cached_kernels_without_compiler_set_up,
+    fewer_collections,
+    numba_without_unused_extras,
+)
 
 EXIT_USAGE = 2
 
@@ -83,7 +87,8 @@ def _run(args: argparse.Namespace) -> int:
     """Run the verb ``args`` names; a user error is one line and exit status 2."""
     numba_without_unused_extras()
     try:
-        return args.run(args)
+        with cached_kernels_without_compiler_set_up():
+            return args.run(args)
     except MatshopError as exc:
         print(f"matshop: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
