@@ -19,7 +19,7 @@ import pytest
 
 import matshop.cli.verbs.info as info
 from matshop.cli import main
-from matshop.cli.startup import cached_kernels_without_compiler_set_up
+from matshop.kernel_cache import cached_kernels_without_compiler_set_up
 
 SAMPLE = Path(__file__).resolve().parents[1] / "resources" / "sample"
 

@@ -11,6 +11,7 @@ def start(path: Path | None = None, argv: list[str] | None = None) -> int:
 
     from PySide6.QtWidgets import QApplication
 
+    from ..kernel_cache import cached_kernels_without_compiler_set_up
     from . import error_hook
     from .main_window import MainWindow
     from .theme import apply_theme
@@ -21,9 +22,11 @@ def start(path: Path | None = None, argv: list[str] | None = None) -> int:
     apply_theme(app)
     window = MainWindow()
     error_hook.install(window.show_message)
-    window.show()
-    # a cold numba cache (a fresh install): compile in a child, not on first use here
-    window.kernel_warm_up.start_if_cold()
-    if path is not None:
-        window.open_path(path)
-    return int(app.exec())
+    # a kernel's first load on a worker holds the GIL, so the event loop waits for it
+    with cached_kernels_without_compiler_set_up():
+        window.show()
+        # a cold numba cache (a fresh install): compile in a child, not on first use here
+        window.kernel_warm_up.start_if_cold()
+        if path is not None:
+            window.open_path(path)
+        return int(app.exec())

@@ -16,12 +16,9 @@ from collections.abc import Sequence
 
 from .. import __version__
 from ..errors import MatshopError
+from ..kernel_cache import cached_kernels_without_compiler_set_up
 from .registry import VERBS, load
-from .startup import (
-    cached_kernels_without_compiler_set_up,
-    fewer_collections,
-    numba_without_unused_extras,
-)
+from .startup import fewer_collections, numba_without_unused_extras
 
 EXIT_USAGE = 2
 
