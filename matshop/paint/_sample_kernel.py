@@ -13,15 +13,10 @@ from numba import njit
 
 
 @njit(inline="always", nogil=True)
-def _bilinear(padded, u, v, inv_factor, lo_x, hi_x, lo_y, hi_y, clamp):
-    """The level's bilinear sample at image position (u, v) (level-0 pixels)."""
+def _interpolate(padded, x, y):
+    """Bilinear between the pixels of ``padded`` at (x, y) in its pixels, within its border
+    (0 <= x <= pw - 1, 0 <= y <= ph - 1)."""
     ph, pw = padded.shape
-    x = u * inv_factor + 0.5  # -0.5 to pixel centres, +1 for the border
-    y = v * inv_factor + 0.5
-    if not clamp and (x <= lo_x or x >= hi_x or y <= lo_y or y >= hi_y):
-        return np.float32(0.0)  # on or past the zero border
-    x = min(max(x, lo_x), hi_x)
-    y = min(max(y, lo_y), hi_y)
     # x, y >= 0 here: truncation is the floor, and unsigned indices skip numba's
     # wraparound fix-up of each of the four loads
     i0 = np.uint64(np.int64(x))
@@ -33,6 +28,21 @@ def _bilinear(padded, u, v, inv_factor, lo_x, hi_x, lo_y, hi_y, clamp):
     top = padded[j0, i0] * (1.0 - fx) + padded[j0, i1] * fx
     bottom = padded[j1, i0] * (1.0 - fx) + padded[j1, i1] * fx
     return np.float32(top * (1.0 - fy) + bottom * fy)
+
+
+@njit(inline="always", nogil=True)
+def _bilinear(padded, u, v, inv_factor, lo_x, hi_x, lo_y, hi_y, clamp):
+    """The level's bilinear sample at image position (u, v) (level-0 pixels)."""
+    x = u * inv_factor + 0.5  # -0.5 to pixel centres, +1 for the border
+    y = v * inv_factor + 0.5
+    if lo_x < x < hi_x and lo_y < y < hi_y:
+        # inside: neither the border test nor the clamps below change anything, so one
+        # test does (tip dab / cv2.warpAffine on an AMD EPYC, r=64 3.16-3.20 -> 2.84-2.89,
+        # r=256 4.41-4.47 -> 3.92-4.10; stencil mask 3.89-3.92 -> 3.75-3.80)
+        return _interpolate(padded, x, y)
+    if not clamp and (x <= lo_x or x >= hi_x or y <= lo_y or y >= hi_y):
+        return np.float32(0.0)  # on or past the zero border
+    return _interpolate(padded, min(max(x, lo_x), hi_x), min(max(y, lo_y), hi_y))
 
 
 @njit(inline="always", nogil=True)
