@@ -79,8 +79,9 @@ def _run_apply(how: str, out: Path) -> list[str]:
 def test_a_verb_loads_cached_kernels_without_the_compiler_and_writes_the_same_bytes(
     tmp_path: Path,
 ) -> None:
-    # the bare verb first: it fills numba's cache, should a kernel not be in it yet
-    # compiler set up, numba's loader restored, right answers, scipy's BLAS once compiled
+    # the bare verb first: it fills numba's cache, should a kernel not be in it yet.
+    # Each run prints: compiler set up, numba's loader restored, a new kernel's answers
+    # right, scipy's BLAS imported once np.dot was compiled
     assert _run_apply("verb", tmp_path / "plain") == ["True", "True", "True", "True"]
     assert _run_apply("main", tmp_path / "lean") == ["False", "True", "True", "True"]
     plain = sorted((tmp_path / "plain").iterdir())

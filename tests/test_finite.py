@@ -33,6 +33,9 @@ def _cases():
     yield "empty", np.empty((0, 3), np.float32)
 
 
-@pytest.mark.parametrize(("name", "values"), list(_cases()), ids=[n for n, _ in _cases()])
+CASES = list(_cases())
+
+
+@pytest.mark.parametrize(("name", "values"), CASES, ids=[name for name, _ in CASES])
 def test_all_finite_agrees_with_the_elementwise_test(name, values):
     assert all_finite(values) == bool(np.isfinite(values).all()), name
