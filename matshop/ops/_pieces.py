@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from ._chunks import next_chunk
 from ._vector_width import prefer_512_bit_vectors
 
 #: pieces one pass evaluates (a curve of up to five inner control points)
@@ -459,6 +460,8 @@ def pieces_apply(
     coeffs,
     power,
     out,
+    threads,
+    taken,
 ):
     """A curve of pieces through every channel group of ``src`` (H, W, C), into ``out``.
 
@@ -470,22 +473,28 @@ def pieces_apply(
     vector groups of the same row, while it is in cache (:func:`_vectors_row`,
     which overwrites their channels; ``ranges`` and ``constants[1]``).
     ``src`` and ``out`` are C-contiguous; ``breaks`` and ``coeffs`` are a
-    :class:`Pieces`, ``power`` its :func:`split_exponent`.
+    :class:`Pieces`, ``power`` its :func:`split_exponent`. Rows go in chunks
+    to ``threads`` workers as each asks (:mod:`._chunks`), counted in ``taken``
+    (int64 ``[0]``, made by the caller).
     """
     height, width, channels = src.shape
     flat_src = src.reshape(height, width * channels)
     flat_out = out.reshape(height, width * channels)
     tiles, vector_constants = constants
     rows_per_chunk = (height + 63) // 64
-    for chunk in prange((height + rows_per_chunk - 1) // rows_per_chunk):
+    chunks = (height + rows_per_chunk - 1) // rows_per_chunk
+    for _worker in prange(max(1, min(threads, chunks))):
         scratch = np.empty((2, width), dtype=np.float32)
-        for row in range(chunk * rows_per_chunk, min(height, (chunk + 1) * rows_per_chunk)):
-            if power[2] != 1.0:
-                _power_row(flat_src[row], tiles, power, flat_out[row])
-            else:
-                _pieces_row(flat_src[row], lo, inv_span, span, breaks, coeffs, flat_out[row])
-            if bounds.shape[0] > 1:
-                _vectors_row(
-                    src[row], vectors, bounds, quadrature, ranges, vector_constants,
-                    breaks, coeffs, power, out[row], scratch,
-                )  # fmt: skip
+        chunk = next_chunk(taken)
+        while chunk < chunks:
+            for row in range(chunk * rows_per_chunk, min(height, (chunk + 1) * rows_per_chunk)):
+                if power[2] != 1.0:
+                    _power_row(flat_src[row], tiles, power, flat_out[row])
+                else:
+                    _pieces_row(flat_src[row], lo, inv_span, span, breaks, coeffs, flat_out[row])
+                if bounds.shape[0] > 1:
+                    _vectors_row(
+                        src[row], vectors, bounds, quadrature, ranges, vector_constants,
+                        breaks, coeffs, power, out[row], scratch,
+                    )  # fmt: skip
+            chunk = next_chunk(taken)

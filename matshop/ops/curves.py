@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
+import numba
 import numpy as np
 
 from ..material import Schema
@@ -245,6 +246,8 @@ def _apply_pieces(
         curve.coeffs,
         split_exponent(curve.exponent),
         result,
+        numba.get_num_threads(),
+        np.zeros(1, dtype=np.int64),
     )
 
 
