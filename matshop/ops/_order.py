@@ -26,7 +26,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 #: "sort" or "radix": the faster way on this CPU, measured on first use
 #: (:func:`_faster_method`); tests set it to run either
@@ -55,14 +55,16 @@ def _bucket(value):
     return np.uint64(((bits ^ flip) & 0xFFFFFFFF) >> (32 - _BUCKET_BITS))
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def _wanted_buckets(plane, ranks):
-    """The values of the buckets that hold ``ranks`` (ascending), bucket by bucket.
+@njit(inline="always", nogil=True, error_model="numpy")
+def _wanted_buckets(plane, ranks, values, first, slot, before, flat):
+    """The values of the buckets that hold ``ranks`` (ascending), bucket by bucket,
+    into ``values`` (at least the plane's length); the number of buckets, or -1
+    when the plane holds an infinity or a NaN (or, as float32, a float64 beyond
+    its range).
 
-    Returns ``(values, first, slot, before)``: bucket ``s`` is
-    ``values[first[s]:first[s + 1]]``, rank ``j`` lies in bucket ``slot[j]``
-    with ``before[j]`` smaller values in the buckets below it; None when the
-    plane holds an infinity or a NaN (or, as float32, a float64 beyond its range).
+    Bucket ``s`` is ``values[first[s]:first[s + 1]]``, all one value when
+    ``flat[s]``; rank ``j`` lies in bucket ``slot[j]`` with ``before[j]``
+    smaller values in the buckets below it.
     """
     # two histograms, even and odd places: a run of equal values (a flat area) then
     # makes two chains of increments of one counter, not one twice as long
@@ -73,17 +75,14 @@ def _wanted_buckets(plane, ranks):
         halves[1, _bucket(plane[2 * i + 1])] += 1
     if plane.shape[0] % 2:
         halves[0, _bucket(plane[-1])] += 1
-    counts = halves[0].astype(np.int64) + halves[1]
+    counts = halves[0] + halves[1]
     if counts[: _FINITE_BUCKETS[0]].sum() + counts[_FINITE_BUCKETS[1] + 1 :].sum() > 0:
-        return None
+        return -1
     # ascending ranks give ascending buckets: one walk assigns the slots
-    wanted = ranks.shape[0]
-    slot_of = np.full(1 << _BUCKET_BITS, -1, dtype=np.int64)
-    slot = np.empty(wanted, dtype=np.int64)
-    before = np.empty(wanted, dtype=np.int64)
-    first = np.zeros(wanted + 1, dtype=np.int64)
+    slot_of = np.full(1 << _BUCKET_BITS, -1, dtype=np.int32)
+    first[0] = 0
     bucket, below, slots = 0, 0, 0
-    for j in range(wanted):
+    for j in range(ranks.shape[0]):
         while below + counts[bucket] <= ranks[j]:
             below += counts[bucket]
             bucket += 1
@@ -92,55 +91,76 @@ def _wanted_buckets(plane, ranks):
             first[slots + 1] = first[slots] + counts[bucket]
             slots += 1
         slot[j], before[j] = slot_of[bucket], below
-    values = np.empty(first[slots], dtype=plane.dtype)
     filled = first[:slots].copy()
     for v in plane:
         s = slot_of[_bucket(v)]
         if s >= 0:
             values[filled[s]] = v
             filled[s] += 1
-    return values, first[: slots + 1], slot, before
+    for s in range(slots):
+        bucket_values = values[first[s] : first[s + 1]]
+        flat[s] = bucket_values.min() == bucket_values.max()
+    return slots
 
 
-def order_statistics(planes: np.ndarray, ranks: np.ndarray) -> np.ndarray | None:
-    """``np.sort(planes, axis=1)[:, ranks]`` for ``planes`` (k, n) of floats and
-    ascending ``ranks`` in ``[0, n)``; None when a value is not finite (the
-    caller decides which values to drop), found on the way: by a sort's ends
-    (NaN sorts last, infinities outermost), or by the radix select's histogram
-    at no extra pass.
+@njit(cache=True, parallel=True, nogil=True, error_model="numpy")
+def _wanted_buckets_of_planes(planes, rows, ranks, values, first, slot, before, flat, slots):
+    """:func:`_wanted_buckets` of ``planes[rows[i]]`` into row i of each output, a
+    plane per thread at a time (``slots[i]``: its return value)."""
+    for i in prange(rows.shape[0]):
+        slots[i] = _wanted_buckets(
+            planes[rows[i]], ranks, values[i], first[i], slot[i], before[i], flat[i]
+        )
+
+
+def order_statistics(
+    planes: np.ndarray, ranks: np.ndarray, rows: np.ndarray | None = None
+) -> np.ndarray | None:
+    """``np.sort(planes[rows], axis=1)[:, ranks]`` for ``planes`` (k, n) of floats
+    (``rows``: all by default) and ascending ``ranks`` in ``[0, n)``; None when a
+    value is not finite (the caller decides which values to drop), found on the
+    way: by a sort's ends (NaN sorts last, infinities outermost), or by the radix
+    select's histogram at no extra pass.
     """
     ranks = np.asarray(ranks, dtype=np.int64)
-    out = np.empty((planes.shape[0], ranks.size), dtype=planes.dtype)
-    by = _by_sort if _method() == "sort" else _by_radix
-    for row, plane in zip(out, planes, strict=True):
-        found = by(plane, ranks)
-        if found is None:
+    rows = np.arange(planes.shape[0]) if rows is None else np.asarray(rows, dtype=np.int64)
+    by = _by_radix if _method() == "radix" else _by_sort
+    return by(planes, rows, ranks)
+
+
+def _by_sort(planes: np.ndarray, rows: np.ndarray, ranks: np.ndarray) -> np.ndarray | None:
+    out = np.empty((rows.size, ranks.size), dtype=planes.dtype)
+    for i, row in enumerate(rows):
+        ordered = np.sort(planes[row])
+        if not (np.isfinite(ordered[0]) and np.isfinite(ordered[-1])):
             return None
-        row[:] = found
+        out[i] = ordered[ranks]
     return out
 
 
-def _by_sort(plane: np.ndarray, ranks: np.ndarray) -> np.ndarray | None:
-    ordered = np.sort(plane)
-    if not (np.isfinite(ordered[0]) and np.isfinite(ordered[-1])):
-        return None
-    return ordered[ranks]
-
-
-def _by_radix(plane: np.ndarray, ranks: np.ndarray) -> np.ndarray | None:
-    """The wanted buckets are sorted by numpy: on real maps most values can share
-    one bucket (the flat three quarters of the chessboard's normals, metallic's
-    zeros), and numba's own sort took 6-8 ms on such a bucket, numpy's 1.
+def _by_radix(planes: np.ndarray, rows: np.ndarray, ranks: np.ndarray) -> np.ndarray | None:
+    """The wanted buckets of every plane in one parallel pass, then those that are
+    not one value sorted by numpy: on real maps most values can share one bucket
+    (the flat three quarters of the chessboard's normals, metallic's zeros), and
+    numba's own sort took 6-8 ms on such a bucket, numpy's 1.
     """
-    wanted = _wanted_buckets(np.ascontiguousarray(plane), ranks)
-    if wanted is None:
+    count, wanted = rows.size, ranks.size
+    values = np.empty((count, planes.shape[1]), dtype=planes.dtype)
+    first = np.empty((count, wanted + 1), dtype=np.int64)
+    slot = np.empty((count, wanted), dtype=np.int64)
+    before = np.empty((count, wanted), dtype=np.int64)
+    flat = np.empty((count, wanted), dtype=np.bool_)
+    slots = np.empty(count, dtype=np.int64)
+    _wanted_buckets_of_planes(
+        np.ascontiguousarray(planes), rows, ranks, values, first, slot, before, flat, slots
+    )
+    if (slots < 0).any():
         return None
-    values, first, slot, before = wanted
-    for start, stop in zip(first[:-1], first[1:], strict=True):
-        bucket = values[start:stop]
-        if bucket.min() != bucket.max():  # a flat area's one value needs no sort
-            bucket.sort()
-    return values[first[slot] + ranks - before]
+    for i in range(count):
+        for s in np.flatnonzero(~flat[i, : slots[i]]):
+            values[i, first[i, s] : first[i, s + 1]].sort()
+    at = first[np.arange(count)[:, None], slot] + ranks - before
+    return np.take_along_axis(values, at, axis=1)
 
 
 def _method() -> str:
@@ -156,13 +176,14 @@ def _faster_method(repeats: int = 3) -> str:
     run each to load the code): about 5 ms, once."""
     plane = np.random.default_rng(0).normal(size=_TRIAL_VALUES).astype(np.float32)
     ranks = np.array([_TRIAL_VALUES // 200, _TRIAL_VALUES // 2, _TRIAL_VALUES - 1])
+    planes, rows = plane[None], np.zeros(1, dtype=np.int64)
     best = {}
     for name, by in (("sort", _by_sort), ("radix", _by_radix)):
-        by(plane, ranks)
+        by(planes, rows, ranks)
         times = []
         for _ in range(repeats):
             start = time.perf_counter()
-            by(plane, ranks)
+            by(planes, rows, ranks)
             times.append(time.perf_counter() - start)
         best[name] = min(times)
     return min(best, key=best.get)
