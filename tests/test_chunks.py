@@ -1,4 +1,4 @@
-"""Chunks handed out by a shared counter (``matshop.ops._chunks``): each exactly once."""
+"""Chunks handed out by a shared counter (``matshop.parallel_chunks``): each exactly once."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from numba import njit, prange
 
-from matshop.ops._chunks import next_chunk
+from matshop.parallel_chunks import next_chunk
 
 
 @njit(parallel=True)

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from ._chunks import next_chunk
+from ..parallel_chunks import next_chunk
 from ._vector_width import prefer_512_bit_vectors
 
 #: pieces one pass evaluates (a curve of up to five inner control points)
@@ -474,8 +474,8 @@ def pieces_apply(
     which overwrites their channels; ``ranges`` and ``constants[1]``).
     ``src`` and ``out`` are C-contiguous; ``breaks`` and ``coeffs`` are a
     :class:`Pieces`, ``power`` its :func:`split_exponent`. Rows go in chunks
-    to ``threads`` workers as each asks (:mod:`._chunks`), counted in ``taken``
-    (int64 ``[0]``, made by the caller).
+    to ``threads`` workers as each asks (:mod:`matshop.parallel_chunks`),
+    counted in ``taken`` (int64 ``[0]``, made by the caller).
     """
     height, width, channels = src.shape
     flat_src = src.reshape(height, width * channels)

@@ -45,6 +45,8 @@ import numpy as np
 from numba import get_num_threads, njit, prange
 from numpy.lib.stride_tricks import as_strided
 
+from ..parallel_chunks import next_chunk
+
 #: options of the scalar helpers (inlined into the kernels)
 _INLINE = {"inline": "always", "error_model": "numpy", "fastmath": {"contract"}, "nogil": True}
 #: options of the workers (a parallel kernel calls one per chunk, a chunk a few
@@ -64,6 +66,8 @@ _KERNEL = {
 BLOCK = 512
 #: fewer texels than this per parallel chunk are not worth a thread hand-off
 _MIN_CHUNK = 8 * BLOCK
+#: chunks per thread at most: enough that the threads end together when one is held up
+_CHUNKS_PER_THREAD = 16
 
 _U = np.uint64
 _PI = math.pi
@@ -701,11 +705,17 @@ def _transfer_chunk(src, src_stride, dst, dst_stride, start, stop, channels, cur
 
 
 @njit(**_KERNEL)
-def _transfer_kernel(src, src_stride, dst, dst_stride, n, channels, curve, lo, hi, p, nchunks):
-    for chunk in prange(nchunks):
-        start = chunk * n // nchunks
-        stop = (chunk + 1) * n // nchunks
-        _transfer_chunk(src, src_stride, dst, dst_stride, start, stop, channels, curve, lo, hi, p)
+def _transfer_kernel(
+    src, src_stride, dst, dst_stride, n, channels, curve, lo, hi, p, nchunks, workers, taken
+):
+    for _worker in prange(workers):
+        chunk = next_chunk(taken)
+        while chunk < nchunks:
+            start, stop = _chunk_bounds(chunk, n, nchunks)
+            _transfer_chunk(
+                src, src_stride, dst, dst_stride, start, stop, channels, curve, lo, hi, p
+            )
+            chunk = next_chunk(taken)
 
 
 # ---------------------------------------------------------------------------
@@ -951,28 +961,43 @@ def _frame_chunk(src, src_stride, dst, dst_stride, start, stop, code, c_in, c_ou
 
 
 @njit(**_KERNEL)
-def _normal_kernel(src, src_stride, dst, dst_stride, n, code, nchunks):
-    for chunk in prange(nchunks):
-        start = chunk * n // nchunks
-        stop = (chunk + 1) * n // nchunks
-        _normal_chunk(src, src_stride, dst, dst_stride, start, stop, code)
+def _normal_kernel(src, src_stride, dst, dst_stride, n, code, nchunks, workers, taken):
+    for _worker in prange(workers):
+        chunk = next_chunk(taken)
+        while chunk < nchunks:
+            start, stop = _chunk_bounds(chunk, n, nchunks)
+            _normal_chunk(src, src_stride, dst, dst_stride, start, stop, code)
+            chunk = next_chunk(taken)
 
 
 @njit(**_KERNEL)
-def _frame_kernel(src, src_stride, dst, dst_stride, n, code, c_in, c_out, nchunks):
-    for chunk in prange(nchunks):
-        start = chunk * n // nchunks
-        stop = (chunk + 1) * n // nchunks
-        _frame_chunk(src, src_stride, dst, dst_stride, start, stop, code, c_in, c_out)
+def _frame_kernel(src, src_stride, dst, dst_stride, n, code, c_in, c_out, nchunks, workers, taken):
+    for _worker in prange(workers):
+        chunk = next_chunk(taken)
+        while chunk < nchunks:
+            start, stop = _chunk_bounds(chunk, n, nchunks)
+            _frame_chunk(src, src_stride, dst, dst_stride, start, stop, code, c_in, c_out)
+            chunk = next_chunk(taken)
 
 
 # ---------------------------------------------------------------------------
 # Python side: strided (..., C) arrays as flat float32 buffers + row stride
 
 
-def chunks(texels: int) -> int:
-    """Parallel chunks for ``texels`` work items: a few per thread, none tiny."""
-    return max(1, min(4 * get_num_threads(), texels // _MIN_CHUNK))
+def chunks(texels: int) -> tuple[int, int, np.ndarray]:
+    """How a kernel splits ``texels`` work items: ``(chunks, workers, counter)``, the
+    last three arguments of every parallel kernel here. Chunks go to whichever
+    worker asks next (:mod:`matshop.parallel_chunks`), so a thread whose core is
+    busy with something else takes fewer: several per thread, none tiny."""
+    threads = get_num_threads()
+    count = max(1, min(_CHUNKS_PER_THREAD * threads, texels // _MIN_CHUNK))
+    return count, min(threads, count), np.zeros(1, dtype=np.int64)
+
+
+@njit(**_INLINE)
+def _chunk_bounds(chunk, n, nchunks):
+    """The items ``[start, stop)`` of chunk ``chunk`` of ``nchunks`` over ``n``."""
+    return chunk * n // nchunks, (chunk + 1) * n // nchunks
 
 
 #: a strided array with more channels than this goes through packed copies
@@ -1068,7 +1093,7 @@ def transfer(
 
 
 def _call_transfer(channels, args, src, src_stride, dst, dst_stride, n):
-    _transfer_kernel(src, src_stride, dst, dst_stride, n, channels, *args, chunks(n * channels))
+    _transfer_kernel(src, src_stride, dst, dst_stride, n, channels, *args, *chunks(n * channels))
 
 
 def frames(src: np.ndarray, dst: np.ndarray, code: int) -> np.ndarray:
@@ -1088,9 +1113,9 @@ def frames(src: np.ndarray, dst: np.ndarray, code: int) -> np.ndarray:
 
 def _call_frames(code, c_in, c_out, src, src_stride, dst, dst_stride, n):
     if code in (NORMAL_TO_EDIT, NORMAL_FROM_EDIT):
-        _normal_kernel(src, src_stride, dst, dst_stride, n, code, chunks(n))
+        _normal_kernel(src, src_stride, dst, dst_stride, n, code, *chunks(n))
     else:
-        _frame_kernel(src, src_stride, dst, dst_stride, n, code, c_in, c_out, chunks(n))
+        _frame_kernel(src, src_stride, dst, dst_stride, n, code, c_in, c_out, *chunks(n))
 
 
 # ---------------------------------------------------------------------------
@@ -1141,11 +1166,17 @@ def _steps_chunk(srcs, src_strides, dsts, dst_strides, table, coeffs, count_step
 
 
 @njit(**_KERNEL)
-def _steps_kernel(srcs, src_strides, dsts, dst_strides, table, coeffs, count_steps, n, nchunks):
-    for chunk in prange(nchunks):
-        start = chunk * n // nchunks
-        stop = (chunk + 1) * n // nchunks
-        _steps_chunk(srcs, src_strides, dsts, dst_strides, table, coeffs, count_steps, start, stop)
+def _steps_kernel(
+    srcs, src_strides, dsts, dst_strides, table, coeffs, count_steps, n, nchunks, workers, taken
+):
+    for _worker in prange(workers):
+        chunk = next_chunk(taken)
+        while chunk < nchunks:
+            start, stop = _chunk_bounds(chunk, n, nchunks)
+            _steps_chunk(
+                srcs, src_strides, dsts, dst_strides, table, coeffs, count_steps, start, stop
+            )
+            chunk = next_chunk(taken)
 
 
 def run_steps(jobs: list[tuple[Step, np.ndarray, np.ndarray]]) -> None:
@@ -1192,7 +1223,7 @@ def run_steps(jobs: list[tuple[Step, np.ndarray, np.ndarray]]) -> None:
         src_strides = np.array([f[3][1] for f in group + pad], dtype=np.int64)
         dst_strides = np.array([f[4][1] for f in group + pad], dtype=np.int64)
         _steps_kernel(
-            srcs, src_strides, dsts, dst_strides, table, coeffs, len(group), n, chunks(n * 4)
+            srcs, src_strides, dsts, dst_strides, table, coeffs, len(group), n, *chunks(n * 4)
         )
 
 

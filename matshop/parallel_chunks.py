@@ -38,4 +38,3 @@ def next_chunk(typingctx, counter):
         return builder.atomic_rmw("add", array.data, one, "monotonic")
 
     return types.int64(counter), codegen
-
