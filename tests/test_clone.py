@@ -176,6 +176,36 @@ def test_membrane_matches_brute_force_mean_value_coordinates() -> None:
     )
 
 
+def test_pixels_opencvs_triangles_miss_are_placed_in_qhulls(monkeypatch) -> None:
+    """OpenCV's Delaunay (run beside the weights, on the clone's own thread) claims no
+    pixel here; Qhull's triangles then place them all, and the membrane is still
+    mean-value interpolation (against the brute force, as above)."""
+    import threading
+
+    from matshop.ops import clone as clone_module
+
+    threads = []
+
+    def no_triangles(points: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+        threads.append(threading.current_thread().name)
+        return np.zeros((0, 3), dtype=np.int64)
+
+    monkeypatch.setattr(clone_module, "_delaunay_cv2", no_triangles)
+    shape = (128, 128)
+    mask = disc(shape, 63.4, 64.2, 56)
+    coords = CloneCoordinates.from_region(mask, shape)
+    assert len(threads) == 1 and threads[0].startswith("matshop-delaunay")
+    boundary, interior = coords.boundary, coords.interior
+    # interpolated in triangles, not the exact coordinates (the last resort)
+    assert coords.mesh_vertices < 0.5 * len(interior)
+    bx, by = boundary[:, 0].astype(float), boundary[:, 1].astype(float)
+    smooth = np.stack([np.sin(bx / 17) + np.cos(by / 11), (bx / 128) ** 2], axis=1)
+    exact = brute_force_membrane(boundary, smooth, interior)
+    fast = coords.membrane(smooth.astype(np.float32))
+    error = np.abs(fast - exact).max(axis=0) / np.ptp(smooth, axis=0)
+    assert error.max() < SMOOTH_BOUND, error
+
+
 def test_accuracy_grows_with_the_settings() -> None:
     shape = (56, 56)
     mask = disc(shape, 27.6, 28.3, 20)

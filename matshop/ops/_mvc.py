@@ -14,6 +14,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ..parallel_chunks import next_chunk
+
 # ---------------------------------------------------------------- polygon -> mask
 
 
@@ -368,37 +370,26 @@ def _weights_block(lo, hi, qx, qy, tree, bx, by, geo, lagrange, ones, far2, out)
 
 
 @njit(cache=True, parallel=True, nogil=True)
-def hierarchical_weights(qx, qy, bx, by, offsets, index, cx, cy, radius, ones, far):
+def hierarchical_weights(
+    qx, qy, bx, by, offsets, index, cx, cy, radius, ones, far, workers, taken
+):
     """CSR rows (int64 indptr, int32 columns, float32 values) of hierarchical MVC of each point.
 
     Columns: the n boundary values, then the coarse-edge moments of
     ``edge_moment_entries``. Applied to the values and moments of a constant
     a row gives that constant (mean-value coordinates reproduce constants).
-    Two passes over blocks of points: count, then fill.
+    Two passes over blocks of points: count, then fill. The blocks go to
+    ``workers`` as each asks (:mod:`matshop.parallel_chunks`; ``taken``: int64
+    ``[0, 0]``, a counter per pass): a point's cost depends on where it lies,
+    and the clone triangulates on another thread meanwhile.
     """
     q = qx.shape[0]
     tree, geo, lagrange = _tree(bx, by, offsets, index, cx, cy, radius)
     far2 = far * far
-    block = 64
-    nblocks = (q + block - 1) // block
     counts = np.empty(q, dtype=np.int64)
     indptr = np.zeros(q + 1, dtype=np.int64)
     none = (counts, indptr, np.empty(0, np.int32), np.empty(0), np.empty(0, np.float32))
-    for b in prange(nblocks):
-        _weights_block(
-            b * block,
-            min(q, b * block + block),
-            qx,
-            qy,
-            tree,
-            bx,
-            by,
-            geo,
-            lagrange,
-            ones,
-            far2,
-            none,
-        )
+    _weights_blocks(qx, qy, tree, bx, by, geo, lagrange, ones, far2, none, workers, taken[0:])
     for p in range(q):
         indptr[p + 1] = indptr[p] + counts[p]
     rows = (
@@ -408,22 +399,23 @@ def hierarchical_weights(qx, qy, bx, by, offsets, index, cx, cy, radius, ones, f
         np.empty(indptr[q], dtype=np.float64),
         np.empty(indptr[q], dtype=np.float32),
     )
-    for b in prange(nblocks):
-        _weights_block(
-            b * block,
-            min(q, b * block + block),
-            qx,
-            qy,
-            tree,
-            bx,
-            by,
-            geo,
-            lagrange,
-            ones,
-            far2,
-            rows,
-        )
+    _weights_blocks(qx, qy, tree, bx, by, geo, lagrange, ones, far2, rows, workers, taken[1:])
     return indptr, rows[2], rows[4]
+
+
+@njit(inline="always", parallel=True, nogil=True)
+def _weights_blocks(qx, qy, tree, bx, by, geo, lagrange, ones, far2, out, workers, taken):
+    """:func:`_weights_block` over every block of 64 points, as the workers ask."""
+    block = 64
+    q = qx.shape[0]
+    nblocks = (q + block - 1) // block
+    for _worker in prange(workers):
+        b = next_chunk(taken)
+        while b < nblocks:
+            lo = b * block
+            hi = min(q, lo + block)
+            _weights_block(lo, hi, qx, qy, tree, bx, by, geo, lagrange, ones, far2, out)
+            b = next_chunk(taken)
 
 
 # ---------------------------------------------------------------- mesh

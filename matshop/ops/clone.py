@@ -65,11 +65,13 @@ brute force.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
 import cv2
+import numba
 import numpy as np
 
 from ..material import Schema
@@ -83,6 +85,9 @@ BORDERS = ("wrap", "clamp", "error")
 _TOP_LEVEL = 6
 #: coarsest level of the boundary hierarchy has at least this many edges
 _TOP_EDGES = 8
+#: OpenCV's Delaunay of a component's vertices runs here, beside the weights (one
+#: thread: it is one call, and the weights keep the other cores busy)
+_TRIANGULATOR = ThreadPoolExecutor(max_workers=1, thread_name_prefix="matshop-delaunay")
 
 
 class CloneError(OpError, ValueError):
@@ -221,26 +226,30 @@ def _build(comp: _Component, density: float, far: float, exact: bool) -> _Part:
     mrow, mcol, mval, ones = _mvc.edge_moment_entries(bx, by, offsets, index)
     vx = px[vpix].astype(np.float64)
     vy = py[vpix].astype(np.float64)
-    part.weights = _mvc.hierarchical_weights(
-        vx + ox, vy + oy, bx, by, offsets, index, cx, cy, radius, ones, 1e300 if exact else far
+    # the vertices' triangles (OpenCV, one thread) while the weights take the others
+    is_vertex = kind < 2
+    points = np.stack([vx[vtri], vy[vtri]], axis=1)
+    triangles_soon = (
+        None if is_vertex.all() else _TRIANGULATOR.submit(_delaunay_cv2, points, comp.filled.shape)
     )
+    part.weights = _mvc.hierarchical_weights(
+        vx + ox, vy + oy, bx, by, offsets, index, cx, cy, radius, ones,
+        1e300 if exact else far, numba.get_num_threads(), np.zeros(2, dtype=np.int64),
+    )  # fmt: skip
     part.moments = (mrow, mcol, mval)
     part.n_moments = len(ones) * 3
 
     # vertices are their own table row; the other pixels interpolate in a triangle
-    is_vertex = kind < 2
     part.tri[is_vertex] = (n + pvert[is_vertex])[:, None]
     part.bary[is_vertex, 0] = 1.0
-    if is_vertex.all():
+    if triangles_soon is None:
         return part
     loose = np.flatnonzero(~is_vertex)
-    points = np.stack([vx[vtri], vy[vtri]], axis=1)
     rows = n + np.flatnonzero(vtri)
     pixel_of = np.full(comp.filled.shape, -1, dtype=np.int64)
     pixel_of[py[loose], px[loose]] = loose
     claimed = 0
-    for triangulate in (_delaunay_cv2, _delaunay_qhull):
-        triangles = triangulate(points, comp.filled.shape)
+    for triangles in _triangulations(triangles_soon, points, comp.filled.shape):
         claimed += _mvc.locate_pixels(
             np.ascontiguousarray(points[:, 0]),
             np.ascontiguousarray(points[:, 1]),
@@ -254,6 +263,14 @@ def _build(comp: _Component, density: float, far: float, exact: bool) -> _Part:
             return part
     # never seen (the triangles cover the convex hull); be exact rather than wrong
     return _build(comp, density, far, exact=True)  # pragma: no cover
+
+
+def _triangulations(
+    first: Future[np.ndarray], points: np.ndarray, shape: tuple[int, int]
+) -> Iterator[np.ndarray]:
+    """OpenCV's triangles (under way), then Qhull's for the pixels they left out."""
+    yield first.result()
+    yield _delaunay_qhull(points, shape)
 
 
 def _delaunay_cv2(points: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
