@@ -75,7 +75,7 @@ def _wanted_buckets(plane, ranks, values, first, slot, before, flat):
         halves[1, _bucket(plane[2 * i + 1])] += 1
     if plane.shape[0] % 2:
         halves[0, _bucket(plane[-1])] += 1
-    counts = halves[0] + halves[1]
+    counts = halves[0].astype(np.int64) + halves[1]
     if counts[: _FINITE_BUCKETS[0]].sum() + counts[_FINITE_BUCKETS[1] + 1 :].sum() > 0:
         return -1
     # ascending ranks give ascending buckets: one walk assigns the slots

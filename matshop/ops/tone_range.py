@@ -132,7 +132,7 @@ def _plane_percentiles(
     planes: np.ndarray, cuts: list[float], rows: np.ndarray | None = None
 ) -> np.ndarray | None:
     """:func:`percentiles` of the rows of ``planes`` ``(k, n)`` (those of ``rows``:
-    all by default): ``(len(cuts), rows)``; None when a value is not finite.
+    all by default): ``(len(cuts), len(rows))``; None when a value is not finite.
 
     numpy's own partitions once per cut and column, five to ten times slower
     than a sort on the real set's planes; :mod:`._order` sorts or
@@ -208,12 +208,13 @@ def _group_percentiles(
         return [None] * len(groups)
     vectors = [g for g in groups if g.curve_mode == "vector"]
     channels = [g for g in groups if g.curve_mode != "vector"]
+    none = np.empty((len(cuts), 0))
     rows = np.concatenate([g.channels for g in channels] or [[]]).astype(np.int64)
-    by_channel = _plane_percentiles(planes, cuts, rows) if rows.size else rows
+    by_channel = _plane_percentiles(planes, cuts, rows) if rows.size else none
     by_vector = (
         _plane_percentiles(np.concatenate([_plane_values(planes, g) for g in vectors]), cuts)
         if vectors
-        else rows
+        else none
     )
     if by_channel is None or by_vector is None:
         return [_finite_group_percentiles(planes, g, cuts) for g in groups]
