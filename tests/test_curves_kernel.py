@@ -163,6 +163,19 @@ def test_levels_equal_the_closed_form(remap, args) -> None:
     np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
 
 
+@pytest.mark.parametrize("remap", ["data", "space"])
+@pytest.mark.parametrize("args", [(-0.2, 1.3, 1.4, 0.0, 1.0), (0.1, 1.5, 0.7, 0.1, 0.9)])
+def test_levels_with_input_points_outside_0_1_continue_from_the_ramp(remap, args) -> None:
+    """Input points beyond the op's range (a script may pass them): the end lines
+    start where the ramp is at 0 and 1, not at the output points (the table path)."""
+    edit = edit_array()
+    got = levels(edit, schema=SCHEMA, remap=remap, **dict(zip(LEVELS_NAMES, args, strict=True)))
+    f, lut = exact_levels(*args), levels_lut(*args)
+    expected = reference(edit, f, lut, schema=SCHEMA, params=None, remap=remap)
+    finite = np.abs(expected) < 1e6
+    np.testing.assert_allclose(got[finite], expected[finite], rtol=1e-5, atol=1e-5)
+
+
 @pytest.mark.parametrize("params", [None, ["base_color"]])
 @pytest.mark.parametrize("args", [(0.1, 0.9, 1.4, 0.0, 1.0), (0.02, 0.6, 0.45, 0.1, 0.85)])
 def test_levels_on_real_maps_equal_the_closed_form(params, args) -> None:

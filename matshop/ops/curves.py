@@ -125,7 +125,11 @@ def levels_pieces(
     in_black: float, in_white: float, gamma: float, out_black: float, out_white: float, tail: float
 ) -> Pieces | None:
     """:func:`levels_lut` as pieces: straight lines, and between the input points
-    a line (``gamma`` 1) or ``out_black + (out_white - out_black) v^(1 / gamma)``."""
+    a line (``gamma`` 1) or ``out_black + (out_white - out_black) v^(1 / gamma)``;
+    None (the table) for input points outside [0, 1], where the end lines start
+    from values inside the ramp."""
+    if in_black < 0.0 or in_white > 1.0:
+        return None
     below, above = _end_slopes(
         lambda: levels_lut(in_black, in_white, gamma, out_black, out_white), tail
     )
