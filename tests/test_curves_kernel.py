@@ -176,6 +176,23 @@ def test_levels_with_input_points_outside_0_1_continue_from_the_ramp(remap, args
     np.testing.assert_allclose(got[finite], expected[finite], rtol=1e-5, atol=1e-5)
 
 
+def test_a_power_curve_whose_lines_do_not_start_from_it_is_refused() -> None:
+    """The kernel adds the end lines' slopes to a power held flat beyond 0 and 1, so
+    it reads only their slopes: pieces where that would change the curve are refused."""
+    from matshop.ops._pieces import Pieces
+
+    power = (0.1, 0.8, 1.25, 0.1)  # 0.1 + 0.8 clamp(1.25 (t - 0.1), 0, 1)^p: flat beyond
+    Pieces.build([(0.0, (0.1, 1.0)), (0.0, power), (1.0, (0.9, 1.0))], exponent=0.7)
+    for pieces in (
+        [(0.0, (0.2, 1.0)), (0.0, power), (1.0, (0.9, 1.0))],  # the line below starts elsewhere
+        [(0.0, (0.1, 1.0)), (0.0, power), (1.0, (1.0, 1.0))],  # the line above too
+        [(0.0, (0.1, 1.0)), (0.0, (0.1, 0.8, 0.8, 0.1)), (1.0, (0.74, 1.0))],  # rising past 1
+        [(0.0, (0.1, 1.0)), (0.0, power), (0.9, (0.9, 1.0))],  # the line above not from 1
+    ):
+        with pytest.raises(ValueError, match="exponent"):
+            Pieces.build(pieces, exponent=0.7)
+
+
 @pytest.mark.parametrize("params", [None, ["base_color"]])
 @pytest.mark.parametrize("args", [(0.1, 0.9, 1.4, 0.0, 1.0), (0.02, 0.6, 0.45, 0.1, 0.85)])
 def test_levels_on_real_maps_equal_the_closed_form(params, args) -> None:

@@ -53,10 +53,10 @@ class Pieces:
         """From ``[(start, (c0, c1, c2, c3)), ...]`` (increasing starts); None when too many."""
         if len(pieces) > MAX_PIECES:
             return None
-        if exponent != 1.0 and not _flat_beyond_0_and_1(pieces):
+        if exponent != 1.0 and not _power_meets_its_lines(pieces):
             raise ValueError(
                 "a curve with an exponent is a line, a power from 0 to 1 (its input "
-                "clamped at both ends) and a line"
+                "clamped at both ends) and a line, meeting where they start"
             )
         # unused pieces start at NaN: no comparison selects them, not even t = inf
         breaks = np.full(MAX_PIECES, np.nan, dtype=np.float32)
@@ -84,13 +84,15 @@ class Pieces:
         return np.where(straight, c[..., 0] + u * c[..., 1], out)
 
 
-def _flat_beyond_0_and_1(pieces: list[tuple[float, tuple[float, ...]]]) -> bool:
+def _power_meets_its_lines(pieces: list[tuple[float, tuple[float, ...]]]) -> bool:
     """Three pieces, the power's from 0 to 1, its ``clamp(c2 (t - c3), 0, 1)`` at 0
-    for t <= 0 and at 1 for t >= 1 (what :func:`_power_curve` relies on)."""
+    for t <= 0 and at 1 for t >= 1, the lines starting from its values there
+    (what :func:`_power_curve` relies on: it reads only the lines' slopes)."""
     if [start for start, _ in pieces[1:]] != [0.0, 1.0]:
         return False
-    c2, c3 = (tuple(pieces[1][1]) + (0.0, 0.0))[2:4]
-    return c2 * -c3 <= 0.0 and c2 * (1.0 - c3) >= 1.0
+    c0, c1, c2, c3 = (tuple(pieces[1][1]) + (0.0,) * 4)[:4]
+    flat = c2 * -c3 <= 0.0 and c2 * (1.0 - c3) >= 1.0
+    return flat and bool(np.isclose(pieces[0][1][0], c0) and np.isclose(pieces[2][1][0], c0 + c1))
 
 
 @njit(inline="always", error_model="numpy", nogil=True)
