@@ -18,11 +18,24 @@ import argparse
 import numpy as np
 from _common import goal, paired_ratios, real_set
 
-from matshop.material import Schema
+from matshop.material import Material, Schema
 from matshop.ops.curves import curves, levels
 
 POINTS = [(0.0, 0.0), (0.3, 0.5), (1.0, 1.0)]
+#: levels as the goals run it (``pair_accounting.py`` times the same call)
+LEVELS = {"in_black": 0.1, "in_white": 0.9, "gamma": 1.4}
 LIMIT = 3.0
+
+
+def cases(material: Material) -> list[tuple[str, np.ndarray, Schema]]:
+    """The goals' data: the set in edit space with its schema (so the frame goes
+    through as one vector), and its base colour alone; each with its label."""
+    edit = material.to_edit().data
+    base_colour = Schema(material.schema.parameters[:1])
+    return [
+        ("10 ch incl. a frame", edit, material.schema),
+        ("3 ch base colour", np.ascontiguousarray(edit[..., :3]), base_colour),
+    ]
 
 
 def main() -> None:
@@ -31,13 +44,8 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=2048)
     args = parser.parse_args()
     material, what = real_set(args.size)
-    edit = material.to_edit().data
     print(f"data: {what}")
-    cases = [
-        (10, edit, material.schema),
-        (3, np.ascontiguousarray(edit[..., :3]), Schema(material.schema.parameters[:1])),
-    ]
-    for channels, data, schema in cases:
+    for what, data, schema in cases(material):
         dst = np.empty_like(data)
 
         def copy(d=data, o=dst) -> None:
@@ -47,9 +55,8 @@ def main() -> None:
             curves(d, points=POINTS, schema=s)
 
         def run_levels(d=data, s=schema) -> None:
-            levels(d, in_black=0.1, in_white=0.9, gamma=1.4, schema=s)
+            levels(d, schema=s, **LEVELS)
 
-        what = "10 ch incl. a frame" if channels == 10 else "3 ch base colour"
         for label, fn in (("curves", run_curves), ("levels", run_levels)):
             ratios = paired_ratios(fn, copy, args.repeat)
             goal(f"{label}, {what} / copy", ratios, LIMIT)

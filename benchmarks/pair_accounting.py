@@ -26,6 +26,7 @@ import time
 
 import numpy as np
 from _common import real_set
+from curves import LEVELS, cases
 
 from matshop.material import Schema
 from matshop.ops.curves import levels
@@ -54,7 +55,7 @@ def pairs(data: np.ndarray, schema: Schema, count: int) -> list[dict]:
     copy = np.empty_like(data)
 
     def run_levels() -> None:
-        levels(data, in_black=0.1, in_white=0.9, gamma=1.4, schema=schema)
+        levels(data, schema=schema, **LEVELS)
 
     run_levels()
     rows = []
@@ -97,17 +98,8 @@ def main() -> None:
     parser.add_argument("--show", type=int, default=6)
     args = parser.parse_args()
     material, what = real_set(args.size)
-    edit = material.to_edit().data
     print(f"data: {what}")
-    cases = [
-        ("10 ch incl. a frame", edit, material.schema),
-        (
-            "3 ch base colour",
-            np.ascontiguousarray(edit[..., :3]),
-            Schema(material.schema.parameters[:1]),
-        ),
-    ]
-    for label, data, schema in cases:
+    for label, data, schema in cases(material):
         rows = pairs(data, schema, args.pairs)
         ratios = sorted(row["ratio"] for row in rows)
         print(
