@@ -155,12 +155,7 @@ LEVELS_NAMES = ("in_black", "in_white", "gamma", "out_black", "out_white")
 )
 def test_levels_equal_the_closed_form(remap, args) -> None:
     """Levels run as pieces (lines, and a power for the gamma): the closed form exactly."""
-    edit = edit_array()
-    got = levels(edit, schema=SCHEMA, remap=remap, **dict(zip(LEVELS_NAMES, args, strict=True)))
-    f, lut = exact_levels(*args), levels_lut(*args)
-    expected = reference(edit, f, lut, schema=SCHEMA, params=None, remap=remap)
-    finite = np.abs(expected) < 1e6
-    np.testing.assert_allclose(got[finite], expected[finite], rtol=3e-6, atol=3e-6)
+    assert_levels_are_the_closed_form(remap, args, tolerance=3e-6)
 
 
 @pytest.mark.parametrize("remap", ["data", "space"])
@@ -168,12 +163,18 @@ def test_levels_equal_the_closed_form(remap, args) -> None:
 def test_levels_with_input_points_outside_0_1_continue_from_the_ramp(remap, args) -> None:
     """Input points beyond the op's range (a script may pass them): the end lines
     start where the ramp is at 0 and 1, not at the output points (the table path)."""
+    assert_levels_are_the_closed_form(remap, args, tolerance=1e-5)
+
+
+def assert_levels_are_the_closed_form(remap: str, args: tuple, tolerance: float) -> None:
+    """Levels ``args`` (:data:`LEVELS_NAMES`) on :func:`edit_array` against the float64
+    closed form continued by the op's end lines, within ``tolerance`` (rtol and atol)."""
     edit = edit_array()
     got = levels(edit, schema=SCHEMA, remap=remap, **dict(zip(LEVELS_NAMES, args, strict=True)))
     f, lut = exact_levels(*args), levels_lut(*args)
     expected = reference(edit, f, lut, schema=SCHEMA, params=None, remap=remap)
     finite = np.abs(expected) < 1e6
-    np.testing.assert_allclose(got[finite], expected[finite], rtol=1e-5, atol=1e-5)
+    np.testing.assert_allclose(got[finite], expected[finite], rtol=tolerance, atol=tolerance)
 
 
 def test_a_power_curve_whose_lines_do_not_start_from_it_is_refused() -> None:

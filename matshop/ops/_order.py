@@ -163,8 +163,7 @@ def _by_radix(planes: np.ndarray, rows: np.ndarray, ranks: np.ndarray) -> np.nda
             start, stop = first[i, s], first[i, s + 1]
             # only the wanted places in order: a partition, not a sort (a frame's
             # magnitudes put 30 000 values of a few levels in one bucket)
-            inside = at[i, slot[i] == s] - start
-            values[i, start:stop].partition(np.unique(inside))
+            values[i, start:stop].partition(at[i, slot[i] == s] - start)
     return np.take_along_axis(values, at, axis=1)
 
 
