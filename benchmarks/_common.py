@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import statistics
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -52,6 +52,31 @@ def paired_ratios(
                 best = min(best, time.perf_counter() - start)
             times[name] = best
         ratios.append(times["ours"] / times["base"])
+    return ratios
+
+
+def interleaved_ratios(
+    pairs: Sequence[tuple[Callable[[], object], Callable[[], object]]], rounds: int
+) -> list[list[float]]:
+    """Per (ours, base) pair, ``rounds`` ratios ours/base: each round times every pair once.
+
+    :func:`paired_ratios` takes one goal's ratios back to back, a window of a few
+    tenths of a second for a fast op, which one slow stretch of a shared machine
+    can cover whole (a 2K levels' seven pairs took 0.1 s). Taken in rounds, every
+    goal's ratios come from the whole run, so a slow stretch moves a few ratios
+    of each goal rather than all of one.
+    """
+    for ours, base in pairs:
+        ours()
+        base()
+    ratios: list[list[float]] = [[] for _ in pairs]
+    for _ in range(rounds):
+        for (ours, base), found in zip(pairs, ratios, strict=True):
+            start = time.perf_counter()
+            base()
+            middle = time.perf_counter()
+            ours()
+            found.append((time.perf_counter() - middle) / (middle - start))
     return ratios
 
 
