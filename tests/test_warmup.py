@@ -81,3 +81,40 @@ def test_warm_up_if_cold_does_nothing_on_a_warm_cache(warm_kernels, capsys) -> N
     assert warmup.is_warm()
     assert main(["warm-up", "--if-cold"]) == 0
     assert "already compiled" in capsys.readouterr().out
+
+
+def _imported_from(tmp_path: Path, module: str, cwd: Path) -> str:
+    """How a fresh interpreter that may not write bytecode loaded ``module`` (``-v``'s line)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
+    env.pop("PYTHONPYCACHEPREFIX", None)
+    done = subprocess.run(
+        [sys.executable, "-v", "-c", f"import {module}"],
+        capture_output=True, text=True, cwd=cwd, env=env, check=True,
+    )  # fmt: skip
+    stem = module.rsplit(".", 1)[-1]
+    lines = [line for line in done.stderr.splitlines() if f"{stem}.py" in line and "#" in line]
+    return "\n".join(lines)
+
+
+def test_the_bytecode_written_is_what_python_imports(tmp_path: Path) -> None:
+    package = tmp_path / "pkg"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "mod.py").write_text("VALUE = 42\n")
+    # without it, a process that may not write bytecode compiles the source
+    assert "code object from" in _imported_from(tmp_path, "pkg.mod", tmp_path)
+    assert warmup.compile_package(package)
+    assert "matches" in _imported_from(tmp_path, "pkg.mod", tmp_path)
+    # an edited source makes the bytecode stale: Python compiles the source again
+    (package / "mod.py").write_text("VALUE = 43  # edited\n")
+    assert "code object from" in _imported_from(tmp_path, "pkg.mod", tmp_path)
+
+
+def test_a_warm_up_leaves_matshop_importing_its_bytecode(tmp_path: Path) -> None:
+    assert warmup.compile_package()
+    found = _imported_from(tmp_path, "matshop.material", tmp_path)
+    assert "matches" in found and "material.py" in found, found

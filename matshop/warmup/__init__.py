@@ -33,12 +33,14 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from .bytecode import compile_package
 from .jobs import jobs
 from .stamp import STAMP_NAME, compile_counts, is_warm, kernels, stamp_path, write_stamp
 
 __all__ = [
     "STAMP_NAME",
     "compile_counts",
+    "compile_package",
     "is_warm",
     "jobs",
     "kernels",
@@ -49,7 +51,9 @@ __all__ = [
 
 
 def warm_up(report: Callable[[str], None] = print) -> tuple[int, int]:
-    """Run every job, then stamp the cache; returns (compiled, loaded) signature counts."""
+    """Compile the package's bytecode, run every job, then stamp the cache; returns
+    (compiled, loaded) signature counts."""
+    compile_package()
     with tempfile.TemporaryDirectory(prefix="matshop-warm-up-") as scratch:
         for label, run in jobs(Path(scratch)):
             began = time.perf_counter()

@@ -10,13 +10,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = (
         "Compile matshop's numba kernels into numba's on-disk cache by running the engine "
         "once on small data, so the editor's first stroke, open or HDR does not compile "
-        "them. Run once after installing or updating (the editor starts it by itself when "
-        "the cache is cold). Honours NUMBA_CACHE_DIR."
+        "them, and matshop's modules to Python bytecode, as a regular install does. Run "
+        "once after installing or updating (the editor starts it by itself when the cache "
+        "is cold). Honours NUMBA_CACHE_DIR."
     )
     parser.add_argument(
         "--if-cold",
         action="store_true",
-        help="do nothing when a warm-up already ran on these sources, numba and CPU",
+        help="compile no kernel when a warm-up already ran on these sources, numba and CPU",
     )
     parser.set_defaults(run=run)
 
@@ -25,6 +26,7 @@ def run(args: argparse.Namespace) -> int:
     from ... import warmup
 
     if args.if_cold and warmup.is_warm():
+        warmup.compile_package()  # also after a source edit that touched no kernel module
         print(f"kernels already compiled ({warmup.stamp_path().parent})")
         return 0
     print("compiling matshop's kernels ahead of first use (once after installing)")
