@@ -32,6 +32,7 @@ import numpy as np
 from numba import get_num_threads, njit, prange
 
 from .. import buffers
+from ..parallel_chunks import next_chunk
 from ._kernels import _PIO2_1, _PIO2_1T
 from ._pchip import eval_pieces, find_intervals, pchip_pieces
 
@@ -281,7 +282,7 @@ def _running_max(v, n, start, out):
 
 
 @njit(cache=True, parallel=True, nogil=True, error_model="numpy")
-def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
+def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks, threads, taken):
     rows, nb = pdf.shape
     nk = nb + 1
     m = y.shape[0]
@@ -298,8 +299,9 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
     # a row without mass reads as the density constant over the measure
     flat = np.empty(nk)
     _running_sum(weights, nb, flat)
-    # rows are independent: blocks of rows run in parallel, each with its own scratch
-    for block in prange(n_blocks):
+    # rows are independent: blocks of rows go to whichever worker asks next
+    # (matshop.parallel_chunks), each worker with its own scratch
+    for _worker in prange(max(1, min(threads, n_blocks))):
         mass = np.empty(nb)
         cdf = np.empty(nk)
         inv_h = np.empty(nk)
@@ -309,23 +311,26 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks):
         dk = np.empty(nk)
         uq = np.empty(m)
         index = np.empty(m, dtype=np.uint64)
-        for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
-            for k in range(nb):
-                v = np.float64(pdf[p, k])
-                # negative and non-finite densities carry no mass
-                mass[k] = v * weights[k] if (v > 0.0) & (v < np.inf) else 0.0
-            _running_sum(mass, nb, cdf)
-            total[p] = cdf[nb]
-            src = cdf if cdf[nb] > 0.0 else flat
-            # normalised, blended with the ramp that keeps flat stretches invertible
-            scale = (1.0 - _KNOT_EPS) / src[nb]
-            for k in range(nk):
-                cdf[k] = src[k] * scale + ramp[k]
-            cdf[nb] = (1.0 - _KNOT_EPS) + _KNOT_EPS
-            pchip_pieces(cdf, ue, inv_due, nk, inv_h, a, b, c, dk)
-            find_intervals(cdf, nk, y, index)
-            eval_pieces(cdf, ue, inv_h, a, b, c, y, index, uq)
-            _store_x(uq, coord, lo, hi, out[p])
+        block = next_chunk(taken)
+        while block < n_blocks:
+            for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
+                for k in range(nb):
+                    v = np.float64(pdf[p, k])
+                    # negative and non-finite densities carry no mass
+                    mass[k] = v * weights[k] if (v > 0.0) & (v < np.inf) else 0.0
+                _running_sum(mass, nb, cdf)
+                total[p] = cdf[nb]
+                src = cdf if cdf[nb] > 0.0 else flat
+                # normalised, blended with the ramp that keeps flat stretches invertible
+                scale = (1.0 - _KNOT_EPS) / src[nb]
+                for k in range(nk):
+                    cdf[k] = src[k] * scale + ramp[k]
+                cdf[nb] = (1.0 - _KNOT_EPS) + _KNOT_EPS
+                pchip_pieces(cdf, ue, inv_due, nk, inv_h, a, b, c, dk)
+                find_intervals(cdf, nk, y, index)
+                eval_pieces(cdf, ue, inv_h, a, b, c, y, index, uq)
+                _store_x(uq, coord, lo, hi, out[p])
+            block = next_chunk(taken)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -386,7 +391,7 @@ def _domain_knots(q_row, y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy):
 
 
 @njit(cache=True, parallel=True, nogil=True, error_model="numpy")
-def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
+def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks, threads, taken):
     rows, m = q.shape
     nb = weights.shape[0]
     lo = edges[0]
@@ -403,7 +408,7 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
     for j in range(1, m):
         inv_dlevel[j] = 1.0 / (y[j] - y[j - 1])
     inv_dlevel[m] = 1.0 / (1.0 - y[m - 1])
-    for block in prange(n_blocks):
+    for _worker in prange(max(1, min(threads, n_blocks))):  # as in _rows_to_quantiles
         vals = np.empty(m)
         us = np.empty(m + 2)
         ys = np.empty(m + 2)
@@ -416,29 +421,37 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks):
         cdf = np.empty(nb + 1)
         mass = np.empty(nb)
         index = np.empty(nb + 1, dtype=np.uint64)
-        for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
-            nk = _domain_knots(q[p], y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy)
-            step = u_span / (nk - 1)
-            for k in range(nk):
-                us[k] = (1.0 - _KNOT_EPS) * us[k] + _KNOT_EPS * (u_lo + step * k)
-            pchip_pieces(us, ys, inv_dy, nk, inv_h, a, b, c, dk)
-            find_intervals(us, nk, ue, index)
-            eval_pieces(us, ys, inv_h, a, b, c, ue, index, cdf)
-            # PCHIP is monotone and hits the anchors; clamp against round-off anyway
-            cdf[0] = 0.0
-            cdf[nb] = 1.0
-            for k in range(nb):
-                step_mass = cdf[k + 1] - cdf[k]
-                mass[k] = step_mass if step_mass > 0.0 else 0.0
-            inv_total = 1.0 / _sum(mass, nb)
-            for k in range(nb):
-                out[p, k] = mass[k] * inv_w[k] * inv_total
+        block = next_chunk(taken)
+        while block < n_blocks:
+            for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
+                nk = _domain_knots(q[p], y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy)
+                step = u_span / (nk - 1)
+                for k in range(nk):
+                    us[k] = (1.0 - _KNOT_EPS) * us[k] + _KNOT_EPS * (u_lo + step * k)
+                pchip_pieces(us, ys, inv_dy, nk, inv_h, a, b, c, dk)
+                find_intervals(us, nk, ue, index)
+                eval_pieces(us, ys, inv_h, a, b, c, ue, index, cdf)
+                # PCHIP is monotone and hits the anchors; clamp against round-off anyway
+                cdf[0] = 0.0
+                cdf[nb] = 1.0
+                for k in range(nb):
+                    step_mass = cdf[k + 1] - cdf[k]
+                    mass[k] = step_mass if step_mass > 0.0 else 0.0
+                inv_total = 1.0 / _sum(mass, nb)
+                for k in range(nb):
+                    out[p, k] = mass[k] * inv_w[k] * inv_total
+            block = next_chunk(taken)
 
 
-def _blocks(rows: int) -> int:
-    # a few blocks per thread balance the load; passed in because numba cannot
-    # cache a kernel that reads the thread count itself
-    return max(1, min(rows, 8 * get_num_threads()))
+#: blocks of rows a call is cut into: enough that a thread slowed by another
+#: process leaves its share to the others, few enough that taking one costs nothing
+_BLOCKS = 64
+
+
+def _schedule(rows: int) -> tuple[int, int, np.ndarray]:
+    """(blocks, threads, block counter) for a kernel over ``rows`` rows: passed in
+    because numba cannot cache a kernel that reads the thread count itself."""
+    return max(1, min(rows, _BLOCKS)), get_num_threads(), np.zeros(1, dtype=np.int64)
 
 
 def pdf_to_quantiles(
@@ -489,7 +502,7 @@ def pdf_to_quantiles(
         np.asarray(y, dtype=np.float64),
         out,
         total,
-        _blocks(rows.shape[0]),
+        *_schedule(rows.shape[0]),
     )
     return out, total
 
@@ -528,6 +541,6 @@ def quantiles_to_pdf(
         weights,
         COORDS[coord],
         out,
-        _blocks(rows.shape[0]),
+        *_schedule(rows.shape[0]),
     )
     return out
