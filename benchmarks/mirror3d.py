@@ -1,6 +1,6 @@
 """Symmetric painting on a mesh: one mirrored stroke against painting its mirror by hand.
 
-    xvfb-run -a python benchmarks/mirror3d.py [--repeat 7] [--size 512] [--radius 12]
+    xvfb-run -a python benchmarks/mirror3d.py [--repeat 11] [--size 512] [--radius 12]
 
 Needs an OpenGL 3.3 core context for the surface bake (under Xvfb: Mesa llvmpipe).
 On the built-in 65k-triangle sphere, a 40-point stroke of closed-form surface hits
@@ -26,7 +26,7 @@ from matshop.viewport.gl.context import install_default_format
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--repeat", type=int, default=11)
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--radius", type=float, default=12.0)
     args = parser.parse_args()

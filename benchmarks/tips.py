@@ -113,7 +113,7 @@ def main() -> None:
         paint_stroke(doc, layer, path, brush, swatch=swatch, seed=3)
 
     start = time.process_time()
-    ratios = paired_ratios(lambda: paint(tipped), lambda: paint(plain), max(3, args.repeat // 2))
+    ratios = paired_ratios(lambda: paint(tipped), lambda: paint(plain), args.repeat)
     goal("stroke with a tip and dynamics / round stroke", ratios, 1.5)
     print(f"(process time of the whole run {time.process_time() - start:.1f} s)")
 
