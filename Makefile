@@ -47,7 +47,9 @@ test: $(PYTHON) validator
 	$(XVFB) $(PYTHON) -m pytest -m "not serial" -n $(TEST_WORKERS) --dist loadfile || status=$$?; \
 	exit $$status
 
-# every benchmark script, then one table of goal / ratio / verdict (benchmarks/table.py)
+# every benchmark script, then one table of goal / ratio / verdict (benchmarks/table.py),
+# after the same warm-up as the other commands (kernels and bytecode compiled)
 bench: $(PYTHON)
 	$(PIP) -e ".[gui]"
+	$(PYTHON) -m matshop warm-up --if-cold
 	$(XVFB) $(PYTHON) benchmarks/table.py
