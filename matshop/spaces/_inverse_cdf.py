@@ -29,11 +29,11 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from numba import get_num_threads, njit, prange
+from numba import njit, prange
 
 from .. import buffers
 from ..parallel_chunks import next_chunk
-from ._kernels import _PIO2_1, _PIO2_1T
+from ._kernels import _PIO2_1, _PIO2_1T, _chunk_bounds, chunks
 from ._pchip import eval_pieces, find_intervals, pchip_pieces
 
 YGrid = Literal["cosine", "uniform"]
@@ -282,7 +282,7 @@ def _running_max(v, n, start, out):
 
 
 @njit(cache=True, parallel=True, nogil=True, error_model="numpy")
-def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks, threads, taken):
+def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_chunks, workers, taken):
     rows, nb = pdf.shape
     nk = nb + 1
     m = y.shape[0]
@@ -299,9 +299,9 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks, thre
     # a row without mass reads as the density constant over the measure
     flat = np.empty(nk)
     _running_sum(weights, nb, flat)
-    # rows are independent: blocks of rows go to whichever worker asks next
+    # rows are independent: chunks of rows go to whichever worker asks next
     # (matshop.parallel_chunks), each worker with its own scratch
-    for _worker in prange(max(1, min(threads, n_blocks))):
+    for _worker in prange(workers):
         mass = np.empty(nb)
         cdf = np.empty(nk)
         inv_h = np.empty(nk)
@@ -311,9 +311,10 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks, thre
         dk = np.empty(nk)
         uq = np.empty(m)
         index = np.empty(m, dtype=np.uint64)
-        block = next_chunk(taken)
-        while block < n_blocks:
-            for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
+        chunk = next_chunk(taken)
+        while chunk < n_chunks:
+            start, stop = _chunk_bounds(chunk, rows, n_chunks)
+            for p in range(start, stop):
                 for k in range(nb):
                     v = np.float64(pdf[p, k])
                     # negative and non-finite densities carry no mass
@@ -330,7 +331,7 @@ def _rows_to_quantiles(pdf, weights, edges, coord, y, out, total, n_blocks, thre
                 find_intervals(cdf, nk, y, index)
                 eval_pieces(cdf, ue, inv_h, a, b, c, y, index, uq)
                 _store_x(uq, coord, lo, hi, out[p])
-            block = next_chunk(taken)
+            chunk = next_chunk(taken)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -391,7 +392,7 @@ def _domain_knots(q_row, y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy):
 
 
 @njit(cache=True, parallel=True, nogil=True, error_model="numpy")
-def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks, threads, taken):
+def _rows_to_pdf(q, y, edges, weights, coord, out, n_chunks, workers, taken):
     rows, m = q.shape
     nb = weights.shape[0]
     lo = edges[0]
@@ -408,7 +409,7 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks, threads, taken):
     for j in range(1, m):
         inv_dlevel[j] = 1.0 / (y[j] - y[j - 1])
     inv_dlevel[m] = 1.0 / (1.0 - y[m - 1])
-    for _worker in prange(max(1, min(threads, n_blocks))):  # as in _rows_to_quantiles
+    for _worker in prange(workers):  # as in _rows_to_quantiles
         vals = np.empty(m)
         us = np.empty(m + 2)
         ys = np.empty(m + 2)
@@ -421,9 +422,10 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks, threads, taken):
         cdf = np.empty(nb + 1)
         mass = np.empty(nb)
         index = np.empty(nb + 1, dtype=np.uint64)
-        block = next_chunk(taken)
-        while block < n_blocks:
-            for p in range(block * rows // n_blocks, (block + 1) * rows // n_blocks):
+        chunk = next_chunk(taken)
+        while chunk < n_chunks:
+            start, stop = _chunk_bounds(chunk, rows, n_chunks)
+            for p in range(start, stop):
                 nk = _domain_knots(q[p], y, lo, hi, coord, inv_dlevel, vals, us, ys, inv_dy)
                 step = u_span / (nk - 1)
                 for k in range(nk):
@@ -440,18 +442,7 @@ def _rows_to_pdf(q, y, edges, weights, coord, out, n_blocks, threads, taken):
                 inv_total = 1.0 / _sum(mass, nb)
                 for k in range(nb):
                     out[p, k] = mass[k] * inv_w[k] * inv_total
-            block = next_chunk(taken)
-
-
-#: blocks of rows a call is cut into: enough that a thread slowed by another
-#: process leaves its share to the others, few enough that taking one costs nothing
-_BLOCKS = 64
-
-
-def _schedule(rows: int) -> tuple[int, int, np.ndarray]:
-    """(blocks, threads, block counter) for a kernel over ``rows`` rows: passed in
-    because numba cannot cache a kernel that reads the thread count itself."""
-    return max(1, min(rows, _BLOCKS)), get_num_threads(), np.zeros(1, dtype=np.int64)
+            chunk = next_chunk(taken)
 
 
 def pdf_to_quantiles(
@@ -502,7 +493,7 @@ def pdf_to_quantiles(
         np.asarray(y, dtype=np.float64),
         out,
         total,
-        *_schedule(rows.shape[0]),
+        *chunks(rows.shape[0]),
     )
     return out, total
 
@@ -541,6 +532,6 @@ def quantiles_to_pdf(
         weights,
         COORDS[coord],
         out,
-        *_schedule(rows.shape[0]),
+        *chunks(rows.shape[0]),
     )
     return out
