@@ -23,12 +23,17 @@ GOAL = "GOAL"
 def best_time(fn: Callable[[], object], repeat: int) -> float:
     """Fastest of ``repeat`` runs after one warm-up (numba compilation, page faults)."""
     fn()
-    times = []
-    for _ in range(repeat):
+    return _fastest(fn, repeat)
+
+
+def _fastest(fn: Callable[[], object], runs: int) -> float:
+    """Seconds of the fastest of ``runs`` calls of ``fn``."""
+    best = float("inf")
+    for _ in range(runs):
         start = time.perf_counter()
         fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
+        best = min(best, time.perf_counter() - start)
+    return best
 
 
 def paired_ratios(
@@ -39,26 +44,16 @@ def paired_ratios(
     Pairing keeps a load change on the shared machine from landing on one
     side only; the spread of the ratios says how much the load moved them.
     """
-    ours()
-    base()
-    ratios = []
-    for _ in range(repeat):
-        times = {}
-        for name, fn in (("base", base), ("ours", ours)):
-            best = float("inf")
-            for _ in range(inner):
-                start = time.perf_counter()
-                fn()
-                best = min(best, time.perf_counter() - start)
-            times[name] = best
-        ratios.append(times["ours"] / times["base"])
-    return ratios
+    return interleaved_ratios([(ours, base)], repeat, inner)[0]
 
 
 def interleaved_ratios(
-    pairs: Sequence[tuple[Callable[[], object], Callable[[], object]]], rounds: int
+    pairs: Sequence[tuple[Callable[[], object], Callable[[], object]]],
+    rounds: int,
+    inner: int = 1,
 ) -> list[list[float]]:
-    """Per (ours, base) pair, ``rounds`` ratios ours/base: each round times every pair once.
+    """Per (ours, base) pair, ``rounds`` ratios ours/base: each round times every pair
+    once, base first (best of ``inner`` runs each).
 
     :func:`paired_ratios` takes one goal's ratios back to back, a window of a few
     tenths of a second for a fast op, which one slow stretch of a shared machine
@@ -72,11 +67,8 @@ def interleaved_ratios(
     ratios: list[list[float]] = [[] for _ in pairs]
     for _ in range(rounds):
         for (ours, base), found in zip(pairs, ratios, strict=True):
-            start = time.perf_counter()
-            base()
-            middle = time.perf_counter()
-            ours()
-            found.append((time.perf_counter() - middle) / (middle - start))
+            base_time = _fastest(base, inner)
+            found.append(_fastest(ours, inner) / base_time)
     return ratios
 
 
