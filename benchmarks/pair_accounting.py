@@ -100,13 +100,12 @@ def main() -> None:
     material, what = real_set(args.size)
     print(f"data: {what}")
     for label, data, schema in cases(material):
-        rows = pairs(data, schema, args.pairs)
-        ratios = sorted(row["ratio"] for row in rows)
+        by_ratio = sorted(pairs(data, schema, args.pairs), key=lambda row: row["ratio"])
+        ratios = [row["ratio"] for row in by_ratio]
         print(
             f"levels, {label} / copy: median {statistics.median(ratios):.2f}, 90th percentile"
-            f" {ratios[int(0.9 * len(ratios))]:.2f}, max {ratios[-1]:.2f} ({len(rows)} pairs)"
+            f" {ratios[int(0.9 * len(ratios))]:.2f}, max {ratios[-1]:.2f} ({len(ratios)} pairs)"
         )
-        by_ratio = sorted(rows, key=lambda row: row["ratio"])
         print(" highest:")
         for row in by_ratio[::-1][: args.show]:
             print(show(row))

@@ -83,7 +83,7 @@ def test_warm_up_if_cold_does_nothing_on_a_warm_cache(warm_kernels, capsys) -> N
     assert "already compiled" in capsys.readouterr().out
 
 
-def _imported_from(tmp_path: Path, module: str, cwd: Path) -> str:
+def _imported_from(module: str, cwd: Path) -> str:
     """How a fresh interpreter that may not write bytecode loaded ``module`` (``-v``'s line)."""
     import os
     import subprocess
@@ -106,15 +106,15 @@ def test_the_bytecode_written_is_what_python_imports(tmp_path: Path) -> None:
     (package / "__init__.py").write_text("")
     (package / "mod.py").write_text("VALUE = 42\n")
     # without it, a process that may not write bytecode compiles the source
-    assert "code object from" in _imported_from(tmp_path, "pkg.mod", tmp_path)
+    assert "code object from" in _imported_from("pkg.mod", tmp_path)
     assert warmup.compile_package(package)
-    assert "matches" in _imported_from(tmp_path, "pkg.mod", tmp_path)
+    assert "matches" in _imported_from("pkg.mod", tmp_path)
     # an edited source makes the bytecode stale: Python compiles the source again
     (package / "mod.py").write_text("VALUE = 43  # edited\n")
-    assert "code object from" in _imported_from(tmp_path, "pkg.mod", tmp_path)
+    assert "code object from" in _imported_from("pkg.mod", tmp_path)
 
 
 def test_a_warm_up_leaves_matshop_importing_its_bytecode(tmp_path: Path) -> None:
     assert warmup.compile_package()
-    found = _imported_from(tmp_path, "matshop.material", tmp_path)
+    found = _imported_from("matshop.material", tmp_path)
     assert "matches" in found and "material.py" in found, found

@@ -4,9 +4,9 @@ Python imports a module from its ``.pyc`` when one is current, else it compiles 
 source, and writes the result only when allowed: ``PYTHONDONTWRITEBYTECODE`` (which
 container images often set) or a read-only tree leave every process compiling again.
 pip writes the bytecode when it installs a package, but not for an editable install,
-so there every command started by compiling the ~50 modules of matshop it imports (measured on
-``matshop apply``'s imports: 0.04 s of CPU a process on average over 12 alternations,
-up to 0.11 s). The bytecode is Python's own; the import system checks it against the
+so there every command started by compiling the ~50 modules of matshop it imports
+(measured on ``matshop apply``'s imports: 0.04 s of CPU a process on average over 12
+alternations, up to 0.11 s). The bytecode is Python's own; the import system checks it against the
 source's modification time and size and ignores a stale one.
 """
 
