@@ -7,6 +7,8 @@ on export.
 
 import os as _os
 
+from .huge_pages import follow_recorded_choice as _follow_recorded_choice
+
 __version__ = "0.1.0"
 
 # what OpenMP saw if it started before this import
@@ -58,6 +60,10 @@ if _workers_started() and _STARTED_POLICY != "PASSIVE":
             RuntimeWarning,
             stacklevel=2,
         )
+
+
+# the memory policy `matshop warm-up` measured on this machine (numpy's huge pages)
+_follow_recorded_choice()
 
 
 def open(path, **load_options):  # noqa: A001 - matshop.open is the API's front door

@@ -33,6 +33,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from .. import huge_pages
 from .bytecode import compile_package
 from .jobs import jobs
 from .stamp import STAMP_NAME, compile_counts, is_warm, kernels, stamp_path, write_stamp
@@ -40,6 +41,7 @@ from .stamp import STAMP_NAME, compile_counts, is_warm, kernels, stamp_path, wri
 __all__ = [
     "STAMP_NAME",
     "compile_counts",
+    "choose_huge_pages",
     "compile_package",
     "is_warm",
     "jobs",
@@ -51,9 +53,10 @@ __all__ = [
 
 
 def warm_up(report: Callable[[str], None] = print) -> tuple[int, int]:
-    """Compile the package's bytecode, run every job, then stamp the cache; returns
-    (compiled, loaded) signature counts."""
+    """Compile the package's bytecode, measure the memory policy, run every job, then
+    stamp the cache; returns (compiled, loaded) signature counts."""
     compile_package()
+    choose_huge_pages(report)
     with tempfile.TemporaryDirectory(prefix="matshop-warm-up-") as scratch:
         for label, run in jobs(Path(scratch)):
             began = time.perf_counter()
@@ -61,3 +64,20 @@ def warm_up(report: Callable[[str], None] = print) -> tuple[int, int]:
             report(f"  {label}: {time.perf_counter() - began:.1f} s")
     write_stamp()
     return compile_counts()
+
+
+def choose_huge_pages(report: Callable[[str], None] = print) -> None:
+    """Measure whether numpy's huge pages make fresh memory slower here, and record it for
+    every later matshop process (:mod:`matshop.huge_pages`)."""
+    if not huge_pages.huge_pages_possible():
+        report("  memory: this kernel gives no transparent huge pages; nothing to choose")
+        return
+    found = huge_pages.measure()
+    huge_pages.record(found)
+    verdict = "kept" if found["use_huge_pages"] else "turned off for matshop"
+    report(
+        f"  memory: first touch of {found['megabytes']} MB, median of"
+        f" {len(found['huge_pages_s'])}: huge pages {found['huge_pages_median_s']:.2f} s,"
+        f" 4 KB pages {found['small_pages_median_s']:.2f} s: numpy's huge pages {verdict}"
+        f" ({huge_pages.record_path()})"
+    )

@@ -27,6 +27,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.if_cold and warmup.is_warm():
         warmup.compile_package()  # also after a source edit that touched no kernel module
+        if warmup.huge_pages.recorded_choice() is None:  # a cache warmed before it was measured
+            warmup.choose_huge_pages()
         print(f"kernels already compiled ({warmup.stamp_path().parent})")
         return 0
     print("compiling matshop's kernels ahead of first use (once after installing)")
