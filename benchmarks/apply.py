@@ -14,6 +14,11 @@ alternately, and write PNGs into a new folder:
   level. What a user would write by hand for "blur this set, linear colour,
   tiling edges".
 
+Both start from the user's environment: matshop follows the memory policy its
+warm-up measured (:mod:`matshop.huge_pages`), the script numpy's default. Where
+that policy turned numpy's huge pages off, the script also runs a second time
+with the same setting, and that ratio is printed beside the goal's.
+
 Goal (issue 16): matshop within 1.5x of the script, in wall time. Each run also
 prints both processes' CPU time (user + system, all threads): on a loaded machine
 it is the steadier measure of how much work each does.
