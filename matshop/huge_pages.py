@@ -176,4 +176,3 @@ def environment_without_choice() -> dict[str, str]:
     if _set_here:
         env.pop(NUMPY_SWITCH, None)
     return env
-

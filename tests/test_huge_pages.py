@@ -113,3 +113,18 @@ def test_warm_up_measures_once_and_records_what_it_measured(
     # a second --if-cold finds the record and measures nothing
     assert main(["warm-up", "--if-cold"]) == 0
     assert "memory:" not in capsys.readouterr().out
+
+
+def test_a_measurement_that_fails_records_nothing_and_says_so(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # 16 TB: the child's numpy refuses the allocation, as under a memory cap
+    monkeypatch.setattr(huge_pages, "MEGABYTES", 1 << 24)
+    monkeypatch.setattr(huge_pages, "SETTLE_S", 0.0)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    from matshop import warmup
+
+    said: list[str] = []
+    warmup.choose_huge_pages(said.append)
+    assert len(said) == 1 and "could not measure" in said[0], said
+    assert not (tmp_path / "matshop" / huge_pages.RECORD_NAME).exists()

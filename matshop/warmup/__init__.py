@@ -28,6 +28,7 @@ warm cache from a cold or stale one without compiling anything.
 
 from __future__ import annotations
 
+import subprocess
 import tempfile
 import time
 from collections.abc import Callable
@@ -40,8 +41,8 @@ from .stamp import STAMP_NAME, compile_counts, is_warm, kernels, stamp_path, wri
 
 __all__ = [
     "STAMP_NAME",
-    "compile_counts",
     "choose_huge_pages",
+    "compile_counts",
     "compile_package",
     "is_warm",
     "jobs",
@@ -72,7 +73,11 @@ def choose_huge_pages(report: Callable[[str], None] = print) -> None:
     if not huge_pages.huge_pages_possible():
         report("  memory: this kernel gives no transparent huge pages; nothing to choose")
         return
-    found = huge_pages.measure()
+    try:
+        found = huge_pages.measure()
+    except (OSError, subprocess.SubprocessError, ValueError) as exc:  # e.g. a memory cap
+        report(f"  memory: could not measure first touches ({exc}); numpy's default kept")
+        return
     huge_pages.record(found)
     verdict = "kept" if found["use_huge_pages"] else "turned off for matshop"
     report(

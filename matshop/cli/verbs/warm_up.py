@@ -10,7 +10,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = (
         "Compile matshop's numba kernels into numba's on-disk cache by running the engine "
         "once on small data, so the editor's first stroke, open or HDR does not compile "
-        "them, and matshop's modules to Python bytecode, as a regular install does. Run "
+        "them, and matshop's modules to Python bytecode, as a regular install does. It also "
+        "measures whether numpy's huge pages make fresh memory slower on this machine (some "
+        "virtual machines) and records the choice every matshop process follows; "
+        "NUMPY_MADVISE_HUGEPAGE overrides it. Run "
         "once after installing or updating (the editor starts it by itself when the cache "
         "is cold). Honours NUMBA_CACHE_DIR."
     )
