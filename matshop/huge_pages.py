@@ -13,6 +13,15 @@ still holds, huge pages took 0.05-0.2 s, so back-to-back runs land anywhere
 between. ``matshop apply`` on the 2K chessboard spent 0.50-0.60 s of system time
 with 4 KB pages and 0.63-1.84 s with huge pages.
 
+The other side of the choice: memory a process frees and takes again at once is
+still backed, and there huge pages stay faster (filling 64 MB 20 times in a row in
+one process: 10-13 ms each with huge pages, 48-50 ms with 4 KB pages), which shows
+where a loop allocates large temporaries back to back (``benchmarks/clone.py``'s
+first clone into a new array: 1.09x OpenCV with huge pages, 1.74x without; its goal
+row, into the caller's buffer, 0.78x and 0.80x). A command starts cold, and memory
+an editor frees between two actions has gone back to the host after the 2 s
+reporting delay, so the cold first touch is what decides.
+
 So :func:`measure` times both in fresh child processes after such a pause
 (``matshop warm-up`` runs it and :func:`record` keeps the result in the user's cache
 folder), and :func:`follow_recorded_choice`, which ``import matshop`` calls, turns
