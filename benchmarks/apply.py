@@ -106,14 +106,17 @@ def main() -> None:
     # where matshop turned numpy's huge pages off here (matshop.huge_pages), the script is
     # also run that way: the goal is against the script as written, this ratio against
     # the same script on the same memory policy, so the gain from the policy shows apart
-    policy = (
-        os.environ.get(NUMPY_SWITCH) if NUMPY_SWITCH not in environment_without_choice() else None
-    )
+    # (this process's environment then differs from the user's only by that switch)
+    same_policy = os.environ.copy() if os.environ != environment_without_choice() else None
+    switch_setting = f"{NUMPY_SWITCH}={os.environ.get(NUMPY_SWITCH)}"
+
+    def script(out: Path) -> list[str]:
+        return [sys.executable, "-c", SCRIPT, str(CHESSBOARD), str(out), sigma, str(PNG_LEVEL)]
+
     with tempfile.TemporaryDirectory() as scratch:
         for run in range(args.repeat + 1):  # the first pair warms the caches (numba, disk)
             ours_out, cv2_out = Path(scratch, f"ours{run}"), Path(scratch, f"cv2{run}")
-            script = [sys.executable, "-c", SCRIPT, str(CHESSBOARD), str(cv2_out), sigma]
-            base = timed([*script, str(PNG_LEVEL)])
+            base = timed(script(cv2_out))
             ours = timed(
                 [sys.executable, "-m", "matshop", "apply", str(CHESSBOARD), str(ours_out)]
                 + ["--op", "blur", f"sigma_px={sigma}"]
@@ -122,17 +125,13 @@ def main() -> None:
                 f"run {run}: matshop apply {ours[0]:.2f} s (CPU {ours[1]:.2f} s),"
                 f" cv2 script {base[0]:.2f} s (CPU {base[1]:.2f} s)"
             )
-            if policy is not None:  # after ours, so that ours still follows the script
-                same_out = str(Path(scratch, f"same{run}"))
-                same = timed(
-                    [*script[:3], str(CHESSBOARD), same_out, sigma, str(PNG_LEVEL)],
-                    {**os.environ, NUMPY_SWITCH: policy},
-                )
-                print(f"  cv2 script with {NUMPY_SWITCH}={policy}: {same[0]:.2f} s")
+            if same_policy is not None:  # after ours, so that ours still follows the script
+                same = timed(script(Path(scratch, f"same{run}")), same_policy)
+                print(f"  cv2 script with {switch_setting}: {same[0]:.2f} s")
             if run:
                 ratios.append(ours[0] / base[0])
                 cpu_ratios.append(ours[1] / base[1])
-                if policy is not None:
+                if same_policy is not None:
                     same_policy_ratios.append(ours[0] / same[0])
     print(
         f"CPU time ratio: median {statistics.median(cpu_ratios):.2f}"
@@ -140,7 +139,7 @@ def main() -> None:
     )
     if same_policy_ratios:
         print(
-            f"against the script with {NUMPY_SWITCH}={policy} (not the goal): median"
+            f"against the script with {switch_setting} (not the goal): median"
             f" {statistics.median(same_policy_ratios):.2f}"
             f" ({min(same_policy_ratios):.2f}-{max(same_policy_ratios):.2f})"
         )
